@@ -1,0 +1,1 @@
+//! Visibility acceleration (in progress).

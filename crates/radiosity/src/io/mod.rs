@@ -1,0 +1,2 @@
+//! File input and output (in progress).
+pub mod obj;

@@ -1,0 +1,36 @@
+//! # radiosity — global illumination by energy equilibrium
+//!
+//! A scene is split into patches (its planar polygons) and elements (their quadtree
+//! subdivisions); form factors couple them; a solver brings light to equilibrium,
+//!
+//! B_i = E_i + ρ_i Σ_j F_ij B_j        (Goral et al. 1984),
+//!
+//! and the viewer-independent result — a lit mesh with radiosity at its vertices — is rendered
+//! from any camera and exported. The chapters, in pipeline order:
+//!
+//! 1. [`scene`]: the scene format (parse → validate → build) and built-in scenes.
+//! 2. [`mesh`]: patches, element quadtrees and the display mesh.
+//! 3. [`accel`]: a bounding-volume hierarchy for visibility.
+//! 4. [`formfactor`]: analytic and ray-cast form factors.
+//! 5. [`solve`]: Jacobi, Gauss-Seidel and progressive refinement.
+//! 6. [`render`]: camera, z-buffer rasterizer, tone mapping.
+//! 7. [`io`]: mesh files in, images out.
+//!
+//! [`pipeline`] strings them together and [`stats`] reports what happened.
+#![forbid(unsafe_code)]
+
+pub mod accel;
+pub mod color;
+pub mod formfactor;
+pub mod io;
+pub mod mesh;
+pub mod pipeline;
+pub mod progress;
+pub mod render;
+pub mod scene;
+pub mod solve;
+pub mod stats;
+pub mod testing;
+
+pub use color::Rgb;
+pub use scene::Scene;

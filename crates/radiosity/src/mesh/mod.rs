@@ -1,0 +1,3 @@
+//! Meshing (in progress).
+pub mod lit_mesh;
+pub use lit_mesh::LitMesh;
