@@ -1,1 +1,88 @@
-//! Stats (in progress).
+//! The statistics file (`--stats`): the public JSON contract of DESIGN.md §5.
+//!
+//! ```json
+//! { "patches": 34, "elements": 4096, "links": 1234567,
+//!   "solver": { "method": "gauss-seidel", "iterations": 12, "residual": 8e-5 },
+//!   "timings": { "load": 0.001, "mesh": 0.01, "form_factors": 1.2, "solve": 0.1,
+//!                "render": 0.2, "total": 1.5 },
+//!   "energy": { "emitted": [r, g, b], "absorbed": [r, g, b] },
+//!   "objects": [ { "name": "floor", "area": 309.4e3, "radiosity": [r, g, b] } ],
+//!   "materials": [ { "name": "white", "area": ..., "radiosity": [r, g, b] } ] }
+//! ```
+//!
+//! Units: seconds; watts per channel when lengths are metres (scene units² × W·m⁻² in general);
+//! radiosity in W·m⁻². An object's `area` is its geometric area (a two-sided polygon counts
+//! once) and its `radiosity` is the power leaving all its sides divided by that area — the
+//! area-weighted mean B of a one-sided object, and for a two-sided sheet lit from one side the
+//! mean B of the lit side.
+
+use serde::Serialize;
+
+/// Everything `--stats` writes.
+#[derive(Clone, Debug, Serialize)]
+pub struct Stats {
+    /// Number of patches (reflecting sides of input polygons).
+    pub patches: usize,
+    /// Number of elements (quadtree leaves).
+    pub elements: usize,
+    /// Number of element–source interactions (form factors) the solver used.
+    pub links: u64,
+    /// How the solve went.
+    pub solver: SolverStats,
+    /// Seconds per stage.
+    pub timings: Timings,
+    /// Power balance.
+    pub energy: Energy,
+    /// Per named object.
+    pub objects: Vec<Aggregate>,
+    /// Per material name.
+    pub materials: Vec<Aggregate>,
+}
+
+/// Solver summary.
+#[derive(Clone, Debug, Serialize)]
+pub struct SolverStats {
+    /// `jacobi`, `gauss-seidel` or `progressive`.
+    pub method: String,
+    /// Sweeps (gathering) or shots (progressive).
+    pub iterations: usize,
+    /// Final residual (see [`crate::solve`] for its definition).
+    pub residual: f64,
+}
+
+/// Wall-clock seconds per stage.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct Timings {
+    /// Reading and building the scene.
+    pub load: f64,
+    /// Patches, elements and the visibility structure.
+    pub mesh: f64,
+    /// Computing form factors (for progressive refinement: included in `solve`).
+    pub form_factors: f64,
+    /// The solver's iterations.
+    pub solve: f64,
+    /// Rendering images.
+    pub render: f64,
+    /// Everything, from start to the last file written.
+    pub total: f64,
+}
+
+/// Emitted and absorbed power per channel.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Energy {
+    /// Σ A·E over emitting patches.
+    pub emitted: [f64; 3],
+    /// Σ A·(1 − ρ)·H, the power absorbed by all surfaces (H: irradiance).
+    pub absorbed: [f64; 3],
+}
+
+/// Area and mean radiosity of a named group of surfaces.
+#[derive(Clone, Debug, Serialize)]
+pub struct Aggregate {
+    /// Object or material name.
+    pub name: String,
+    /// Geometric area.
+    pub area: f64,
+    /// Leaving power per unit area (W·m⁻²), per channel.
+    pub radiosity: [f64; 3],
+}

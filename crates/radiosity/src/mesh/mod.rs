@@ -1,3 +1,383 @@
-//! Meshing (in progress).
+//! Meshing: patches, element quadtrees, and the display mesh.
+//!
+//! "Every surface in the scene is divided in patches … light intensity is constant along each
+//! patch; chosen subdivision is therefore very important" (the lecture). Here a *patch* is one
+//! side of an input polygon ([`Patch`]) and its *elements* are the leaves of a quadtree of
+//! [`Face`]s below it: quads split into four quads, triangles into four triangles (Cohen,
+//! Greenberg, Immel, Brock 1986 call these patches and elements). Uniform subdivision to a
+//! target element area is done here; the hierarchical solver refines the same trees later.
+//!
+//! Nodes are stored in one arena ([`Mesh::nodes`]); a node's four children are consecutive, and
+//! the leaves are numbered depth-first, so the elements below any node form a contiguous range.
+//! That lets a coarse node act as a *source* whose radiosity is the area-weighted mean of its
+//! leaves ([`Mesh::sources`]).
+
+pub mod display;
+mod face;
 pub mod lit_mesh;
+mod patch;
+mod triangulate;
+
+use std::ops::Range;
+
+use glam::Vec3;
+
+pub use face::Face;
 pub use lit_mesh::LitMesh;
+pub use patch::Patch;
+
+use crate::Scene;
+
+/// How finely to subdivide patches into elements.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Subdivision {
+    /// About this many elements in total (area-proportional).
+    Elements(usize),
+    /// Subdivide until no element is larger than this area (scene units²).
+    MaxArea(f64),
+}
+
+impl Default for Subdivision {
+    fn default() -> Self {
+        Self::Elements(DEFAULT_ELEMENTS)
+    }
+}
+
+/// Elements when the user asks for nothing else: enough for smooth Cornell-box shading.
+pub const DEFAULT_ELEMENTS: usize = 4096;
+
+/// The deepest quadtree level (4^12 ≈ 16.7 M leaves per root face).
+pub const MAX_LEVEL: u8 = 12;
+
+/// A quadtree node: a face of a patch, with four children or none (then it is an element).
+#[derive(Clone, Debug)]
+pub struct Node {
+    /// The node's triangle or quadrilateral.
+    pub face: Face,
+    /// Index into [`Mesh::patches`].
+    pub patch: u32,
+    /// Depth below the patch's root faces (roots are level 0).
+    pub level: u8,
+    /// Index of the first of four consecutive children in [`Mesh::nodes`], if any.
+    pub children: Option<u32>,
+    /// The elements below this node (itself, for a leaf): a range of [`Mesh::elements`].
+    pub elements: Range<u32>,
+}
+
+/// Patches and their element quadtrees, plus the triangles that the visibility structure needs.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    /// Reflecting sides of the scene's polygons.
+    pub patches: Vec<Patch>,
+    /// All quadtree nodes; roots of patch `p` are `roots[p]`.
+    pub nodes: Vec<Node>,
+    /// Root node indices of each patch.
+    pub roots: Vec<Range<u32>>,
+    /// Leaf node indices in depth-first order: element `e` is `nodes[elements[e]]`.
+    pub elements: Vec<u32>,
+    /// The scene's polygons as triangles (each polygon once, whatever its sides): what rays hit.
+    pub triangles: Vec<[Vec3; 3]>,
+    /// Scene polygon of each triangle.
+    pub triangle_polygon: Vec<u32>,
+}
+
+impl Mesh {
+    /// Splits every polygon of `scene` into patches and subdivides them uniformly.
+    #[must_use]
+    pub fn build(scene: &Scene, subdivision: Subdivision) -> Self {
+        let patches = patch::patches(scene);
+        let areas: Vec<f64> = patches
+            .iter()
+            .flat_map(|(_, roots)| roots.iter().map(Face::area))
+            .collect();
+        let target = match subdivision {
+            Subdivision::MaxArea(a) => a,
+            Subdivision::Elements(n) => target_area(&areas, n),
+        };
+        let mut mesh = Mesh::default();
+        for (index, (patch, roots)) in patches.into_iter().enumerate() {
+            let first = mesh.nodes.len() as u32;
+            mesh.nodes.extend(roots.iter().map(|&face| Node {
+                face,
+                patch: index as u32,
+                level: 0,
+                children: None,
+                elements: 0..0,
+            }));
+            mesh.roots.push(first..mesh.nodes.len() as u32);
+            for r in first..mesh.nodes.len() as u32 {
+                let level = level_for(mesh.nodes[r as usize].face.area(), target);
+                mesh.grow(r, level);
+            }
+            mesh.patches.push(patch);
+        }
+        for (i, polygon) in scene.polygons.iter().enumerate() {
+            let normal = model::polymesh::vector_area(&polygon.vertices).normalize_or_zero();
+            for face in patch::root_faces(&polygon.vertices, normal) {
+                let c = face.corners();
+                mesh.triangles.push([c[0], c[1], c[2]]);
+                mesh.triangle_polygon.push(i as u32);
+                if let [a, _, c, d] = *c {
+                    mesh.triangles.push([a, c, d]);
+                    mesh.triangle_polygon.push(i as u32);
+                }
+            }
+        }
+        debug_assert_eq!(mesh.validate(), Ok(()));
+        mesh
+    }
+
+    /// Subdivides node `n` uniformly down to `levels` more levels, numbering leaves depth-first.
+    fn grow(&mut self, n: u32, levels: u8) {
+        let start = self.elements.len() as u32;
+        if levels == 0 {
+            self.elements.push(n);
+        } else {
+            let node = &self.nodes[n as usize];
+            let (patch, level) = (node.patch, node.level + 1);
+            let first = self.nodes.len() as u32;
+            for face in node.face.split() {
+                self.nodes.push(Node {
+                    face,
+                    patch,
+                    level,
+                    children: None,
+                    elements: 0..0,
+                });
+            }
+            self.nodes[n as usize].children = Some(first);
+            for c in first..first + 4 {
+                self.grow(c, levels - 1);
+            }
+        }
+        self.nodes[n as usize].elements = start..self.elements.len() as u32;
+    }
+
+    /// Splits each of the given leaf nodes into four children and renumbers the elements
+    /// depth-first (adaptive subdivision; O(nodes) per call, so refine in batches).
+    ///
+    /// # Panics
+    /// If a node is not a leaf or its level is already [`MAX_LEVEL`].
+    pub fn refine(&mut self, leaves: &[u32]) {
+        for &n in leaves {
+            let node = &self.nodes[n as usize];
+            assert!(node.children.is_none() && node.level < MAX_LEVEL);
+            let (patch, level, faces) = (node.patch, node.level + 1, node.face.split());
+            let first = self.nodes.len() as u32;
+            self.nodes.extend(faces.into_iter().map(|face| Node {
+                face,
+                patch,
+                level,
+                children: None,
+                elements: 0..0,
+            }));
+            self.nodes[n as usize].children = Some(first);
+        }
+        self.elements.clear();
+        for r in self.roots.clone().into_iter().flatten() {
+            self.number(r);
+        }
+        debug_assert_eq!(self.validate(), Ok(()));
+    }
+
+    /// Numbers the leaves below `n` depth-first, appending them to `elements`.
+    fn number(&mut self, n: u32) {
+        let start = self.elements.len() as u32;
+        match self.nodes[n as usize].children {
+            None => self.elements.push(n),
+            Some(c) => (c..c + 4).for_each(|k| self.number(k)),
+        }
+        self.nodes[n as usize].elements = start..self.elements.len() as u32;
+    }
+
+    /// Number of elements (quadtree leaves).
+    #[must_use]
+    pub fn element_count(&self) -> usize {
+        self.elements.len()
+    }
+
+    /// The node of element `e`.
+    #[must_use]
+    pub fn element(&self, e: usize) -> &Node {
+        &self.nodes[self.elements[e] as usize]
+    }
+
+    /// The patch of element `e`.
+    #[must_use]
+    pub fn element_patch(&self, e: usize) -> &Patch {
+        &self.patches[self.element(e).patch as usize]
+    }
+
+    /// Total area of all patches (both sides of two-sided polygons count).
+    #[must_use]
+    pub fn total_area(&self) -> f64 {
+        self.patches.iter().map(|p| p.area).sum()
+    }
+
+    /// A cut through the quadtrees used as light sources: for each root, the shallowest nodes
+    /// whose area is at most `total_area / max_sources` (or the leaves, if those are larger).
+    ///
+    /// Receivers are always the elements; sources may be coarser, which is the substructuring
+    /// of Cohen et al. 1986: a source shoots the area-weighted mean radiosity of its elements.
+    /// With `max_sources ≥ element_count()` the sources are exactly the elements.
+    #[must_use]
+    pub fn sources(&self, max_sources: usize) -> Vec<u32> {
+        if max_sources >= self.element_count() {
+            return self.elements.clone();
+        }
+        let threshold = self.total_area() / max_sources.max(1) as f64;
+        let mut out = Vec::new();
+        let mut stack: Vec<u32> = self.roots.iter().flat_map(|r| r.clone().rev()).collect();
+        while let Some(n) = stack.pop() {
+            let node = &self.nodes[n as usize];
+            match node.children {
+                Some(c) if node.face.area() > threshold => stack.extend((c..c + 4).rev()),
+                _ => out.push(n),
+            }
+        }
+        out
+    }
+
+    /// Checks the quadtree invariants: children partition their parent's area and element range,
+    /// levels increase by one, leaves are numbered depth-first, every patch's roots cover its
+    /// area.
+    ///
+    /// # Errors
+    /// A description of the first broken invariant.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.roots.len() != self.patches.len() {
+            return Err("one root range per patch".into());
+        }
+        for (e, &n) in self.elements.iter().enumerate() {
+            let node = self.nodes.get(n as usize).ok_or("element out of range")?;
+            if node.children.is_some() || node.elements != (e as u32..e as u32 + 1) {
+                return Err(format!("element {e} is not a leaf numbered {e}"));
+            }
+        }
+        for (i, node) in self.nodes.iter().enumerate() {
+            let Some(c) = node.children else { continue };
+            let children = &self.nodes[c as usize..c as usize + 4];
+            let area: f64 = children.iter().map(|k| k.face.area()).sum();
+            if (area - node.face.area()).abs() > 1e-4 * node.face.area() {
+                return Err(format!("children of node {i} do not cover it"));
+            }
+            if children
+                .iter()
+                .any(|k| k.level != node.level + 1 || k.patch != node.patch)
+            {
+                return Err(format!("children of node {i} have wrong level or patch"));
+            }
+            if children[0].elements.start != node.elements.start
+                || children[3].elements.end != node.elements.end
+                || children
+                    .windows(2)
+                    .any(|w| w[0].elements.end != w[1].elements.start)
+            {
+                return Err(format!("element ranges of node {i} are not contiguous"));
+            }
+        }
+        for (p, roots) in self.roots.iter().enumerate() {
+            let area: f64 = roots
+                .clone()
+                .map(|r| self.nodes[r as usize].face.area())
+                .sum();
+            if (area - self.patches[p].area).abs() > 1e-4 * self.patches[p].area {
+                return Err(format!("roots of patch {p} do not cover it"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Levels of uniform subdivision that bring a face of area `area` to at most `target`.
+fn level_for(area: f64, target: f64) -> u8 {
+    if !(target > 0.0) || area <= target {
+        return 0;
+    }
+    let levels = ((area / target).ln() / 4f64.ln()).ceil();
+    levels.min(f64::from(MAX_LEVEL)) as u8
+}
+
+/// The target element area that brings the total number of elements closest to `n`.
+fn target_area(root_areas: &[f64], n: usize) -> f64 {
+    let count = |t: f64| -> f64 {
+        root_areas
+            .iter()
+            .map(|&a| 4f64.powi(i32::from(level_for(a, t))))
+            .sum()
+    };
+    let total: f64 = root_areas.iter().sum();
+    let goal = n.max(1) as f64;
+    // The count falls as the target grows; bisect on a log scale.
+    let (mut lo, mut hi) = (total / goal / 1e4, total.max(f64::MIN_POSITIVE));
+    for _ in 0..64 {
+        let mid = (lo * hi).sqrt();
+        if count(mid) > goal {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    // Take whichever side of the jump is closer to the request.
+    if (count(lo) - goal).abs() < (count(hi) - goal).abs() {
+        lo
+    } else {
+        hi
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Material, Object, Polygon};
+
+    fn square_scene(two_sided: bool) -> Scene {
+        Scene {
+            materials: vec![Material {
+                two_sided,
+                ..Material::default()
+            }],
+            objects: vec![Object { name: "sq".into() }],
+            polygons: vec![Polygon {
+                vertices: vec![Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Y, Vec3::Y],
+                material: 0,
+                object: 0,
+            }],
+            ..Scene::default()
+        }
+    }
+
+    #[test]
+    fn element_count_and_max_area_are_honoured() {
+        let mesh = Mesh::build(&square_scene(false), Subdivision::Elements(256));
+        assert_eq!(mesh.element_count(), 256);
+        mesh.validate().unwrap();
+        let mesh = Mesh::build(&square_scene(false), Subdivision::MaxArea(0.01));
+        assert_eq!(mesh.element_count(), 256, "1/4^4 = 0.0039 ≤ 0.01 < 1/4^3");
+        assert_eq!(mesh.triangles.len(), 2);
+    }
+
+    #[test]
+    fn two_sided_polygons_give_two_patches_one_hit_surface() {
+        let mesh = Mesh::build(&square_scene(true), Subdivision::Elements(8));
+        assert_eq!(mesh.patches.len(), 2);
+        assert_eq!(mesh.patches[0].normal, -mesh.patches[1].normal);
+        assert_eq!(mesh.triangles.len(), 2);
+        mesh.validate().unwrap();
+    }
+
+    #[test]
+    fn sources_cut_covers_every_element_once() {
+        let mesh = Mesh::build(&square_scene(false), Subdivision::Elements(1024));
+        let sources = mesh.sources(64);
+        assert_eq!(sources.len(), 64);
+        let mut covered = 0;
+        for &s in &sources {
+            let r = &mesh.nodes[s as usize].elements;
+            assert_eq!(r.start, covered);
+            covered = r.end;
+        }
+        assert_eq!(covered as usize, mesh.element_count());
+        assert_eq!(mesh.sources(5000), mesh.elements);
+    }
+}

@@ -1,0 +1,276 @@
+//! The display mesh: from constant radiosity per element to smooth radiosity per vertex.
+//!
+//! A solve gives one radiosity per element; a renderer wants values at vertices to interpolate
+//! (Gouraud). Each vertex takes the area-weighted mean of the elements that have it as a corner,
+//! over all patches of the same *surface* (same object, same side, same plane), so a wall cut into
+//! several polygons still shades smoothly, while creases (a wall meeting the floor) stay sharp.
+//!
+//! Where neighbouring elements differ in quadtree level, the finer side has a vertex in the
+//! middle of the coarser element's edge: a T-vertex. Drawing the coarse element as two plain
+//! triangles would leave a crack (geometric, and a jump in shading). Because quadtree vertices
+//! sit at dyadic points of their parents' edges, each coarse edge is searched for midpoints
+//! recursively; an element with such points is drawn as a fan around its centroid through every
+//! boundary vertex, so the mesh stays watertight and continuous (Baum et al. 1991 anchor
+//! T-vertices the same way).
+
+use std::collections::HashMap;
+
+use glam::{DVec3, IVec3, Vec3};
+
+use super::{LitMesh, Mesh};
+use crate::Rgb;
+
+/// Deepest midpoint search along an edge (far beyond any level difference the quadtrees reach).
+const MAX_EDGE_DEPTH: u32 = 16;
+
+/// Builds the lit mesh from per-element radiosity `radiosity[e]` (W·m⁻²).
+///
+/// # Panics
+/// If `radiosity.len() != mesh.element_count()`.
+#[must_use]
+pub fn lit_mesh(mesh: &Mesh, radiosity: &[Rgb]) -> LitMesh {
+    assert_eq!(radiosity.len(), mesh.element_count());
+    let key = VertexKey::new(mesh);
+    let surfaces = surfaces(mesh);
+
+    // Vertices: one per (surface, position), radiosity accumulated area-weighted.
+    let mut index: HashMap<(u32, IVec3), u32> = HashMap::new();
+    let mut lit = LitMesh::default();
+    let mut weight: Vec<f64> = Vec::new();
+    let mut sum: Vec<DVec3> = Vec::new();
+    for (e, &n) in mesh.elements.iter().enumerate() {
+        let node = &mesh.nodes[n as usize];
+        let surface = surfaces[node.patch as usize];
+        let area = node.face.area();
+        for &p in node.face.corners() {
+            let v = *index.entry((surface, key.of(p))).or_insert_with(|| {
+                lit.positions.push(p);
+                weight.push(0.0);
+                sum.push(DVec3::ZERO);
+                lit.positions.len() as u32 - 1
+            });
+            weight[v as usize] += area;
+            sum[v as usize] += area * radiosity[e];
+        }
+    }
+    lit.radiosity = sum
+        .iter()
+        .zip(&weight)
+        .map(|(&s, &w)| if w > 0.0 { s / w } else { Rgb::ZERO })
+        .collect();
+
+    // Triangles: each element, with the T-vertices found on its edges.
+    for &n in &mesh.elements {
+        let node = &mesh.nodes[n as usize];
+        let surface = surfaces[node.patch as usize];
+        let patch = &mesh.patches[node.patch as usize];
+        let corners = node.face.corners();
+        let lookup = |p: Vec3| index.get(&(surface, key.of(p))).copied();
+        let mut ring = Vec::with_capacity(8);
+        for i in 0..corners.len() {
+            let (a, b) = (corners[i], corners[(i + 1) % corners.len()]);
+            ring.push(lookup(a).expect("corners are indexed"));
+            edge_points(a, b, MAX_EDGE_DEPTH, &lookup, &mut ring);
+        }
+        let mut push = |t: [u32; 3]| {
+            lit.triangles.push(t);
+            lit.triangle_patch.push(node.patch);
+            lit.triangle_object.push(patch.object);
+            lit.has_back_twin.push(patch.two_sided);
+        };
+        if ring.len() == corners.len() {
+            match *ring.as_slice() {
+                [a, b, c] => push([a, b, c]),
+                [a, b, c, d] => {
+                    // Cut along the shorter diagonal (the better-shaped pair of triangles).
+                    let p = |v: u32| lit.positions[v as usize];
+                    if p(a).distance_squared(p(c)) <= p(b).distance_squared(p(d)) {
+                        push([a, b, c]);
+                        push([a, c, d]);
+                    } else {
+                        push([a, b, d]);
+                        push([b, c, d]);
+                    }
+                }
+                _ => unreachable!("faces have three or four corners"),
+            }
+        } else {
+            // Fan around a new centroid vertex carrying the mean of the ring.
+            let centre = lit.positions.len() as u32;
+            let mean =
+                ring.iter().map(|&v| lit.radiosity[v as usize]).sum::<Rgb>() / ring.len() as f64;
+            lit.positions.push(node.face.centroid());
+            lit.radiosity.push(mean);
+            for i in 0..ring.len() {
+                push([centre, ring[i], ring[(i + 1) % ring.len()]]);
+            }
+        }
+    }
+    lit
+}
+
+/// Appends, in order from `a` to `b`, the vertices that finer neighbours put on the edge.
+fn edge_points(
+    a: Vec3,
+    b: Vec3,
+    depth: u32,
+    lookup: &impl Fn(Vec3) -> Option<u32>,
+    out: &mut Vec<u32>,
+) {
+    if depth == 0 {
+        return;
+    }
+    let m = (a + b) * 0.5;
+    if let Some(v) = lookup(m) {
+        edge_points(a, m, depth - 1, lookup, out);
+        out.push(v);
+        edge_points(m, b, depth - 1, lookup, out);
+    }
+}
+
+/// Surface id per patch: patches of one object, on the same side, in the same plane share one.
+fn surfaces(mesh: &Mesh) -> Vec<u32> {
+    let mut ids: HashMap<(u32, bool, IVec3, i64), u32> = HashMap::new();
+    let scale = mesh_scale(mesh);
+    mesh.patches
+        .iter()
+        .zip(&mesh.roots)
+        .map(|(p, roots)| {
+            let point = mesh.nodes[roots.start as usize].face.corners()[0];
+            let normal = (p.normal * 1000.0).round().as_ivec3();
+            let offset = (f64::from(p.normal.dot(point)) / scale * 1e4).round() as i64;
+            let next = ids.len() as u32;
+            *ids.entry((p.object, p.back, normal, offset))
+                .or_insert(next)
+        })
+        .collect()
+}
+
+/// The diagonal of the mesh's bounding box (1 for an empty mesh).
+fn mesh_scale(mesh: &Mesh) -> f64 {
+    let (lo, hi) = mesh.triangles.iter().flatten().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    let d = f64::from((hi - lo).length());
+    if d.is_finite() && d > 0.0 {
+        d
+    } else {
+        1.0
+    }
+}
+
+/// Quantizes positions to a grid a millionth of the scene's size, so that the same point
+/// computed along different paths (a midpoint of a shared edge, a corner of two polygons) maps to
+/// one vertex.
+struct VertexKey {
+    inverse_cell: f64,
+}
+
+impl VertexKey {
+    fn new(mesh: &Mesh) -> Self {
+        Self {
+            inverse_cell: 1e6 / mesh_scale(mesh),
+        }
+    }
+
+    fn of(&self, p: Vec3) -> IVec3 {
+        (p.as_dvec3() * self.inverse_cell).round().as_ivec3()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Subdivision;
+    use crate::scene::{Material, Object, Polygon};
+    use crate::Scene;
+
+    fn square() -> Scene {
+        Scene {
+            materials: vec![Material::default()],
+            objects: vec![Object { name: "sq".into() }],
+            polygons: vec![Polygon {
+                vertices: vec![Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Y, Vec3::Y],
+                material: 0,
+                object: 0,
+            }],
+            ..Scene::default()
+        }
+    }
+
+    /// Every interior edge is shared by exactly two triangles, boundary edges by one.
+    fn assert_watertight(lit: &LitMesh) {
+        let mut edges: HashMap<(u32, u32), i32> = HashMap::new();
+        for t in &lit.triangles {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                // Directed edges cancel against their reverse in a consistently oriented mesh.
+                *edges.entry((a.min(b), a.max(b))).or_default() += if a < b { 1 } else { -1 };
+            }
+        }
+        let open: Vec<_> = edges.iter().filter(|(_, &c)| c != 0).collect();
+        // Only the outer boundary of the unit square may be open: 4 sides' worth of edges.
+        for ((a, b), _) in open {
+            let (p, q) = (lit.positions[*a as usize], lit.positions[*b as usize]);
+            let on_boundary = |f: fn(Vec3) -> f32, v: f32| f(p) == v && f(q) == v;
+            assert!(
+                on_boundary(|v| v.x, 0.0)
+                    || on_boundary(|v| v.x, 1.0)
+                    || on_boundary(|v| v.y, 0.0)
+                    || on_boundary(|v| v.y, 1.0),
+                "crack between {p} and {q}"
+            );
+        }
+    }
+
+    #[test]
+    fn uniform_radiosity_gives_uniform_vertices_and_full_area() {
+        let mesh = Mesh::build(&square(), Subdivision::Elements(16));
+        let lit = lit_mesh(&mesh, &vec![Rgb::new(1.0, 2.0, 3.0); 16]);
+        assert_eq!(lit.positions.len(), 25);
+        assert!(lit.radiosity.iter().all(|&b| b == Rgb::new(1.0, 2.0, 3.0)));
+        let area: f32 = lit
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| lit.positions[v as usize]);
+                (b - a).cross(c - a).z * 0.5
+            })
+            .sum();
+        assert!(
+            (area - 1.0).abs() < 1e-6,
+            "triangles keep orientation and cover the square"
+        );
+        assert_watertight(&lit);
+    }
+
+    #[test]
+    fn t_vertices_do_not_crack() {
+        let mut mesh = Mesh::build(&square(), Subdivision::Elements(16));
+        mesh.refine(&[mesh.elements[0]]);
+        mesh.refine(&[mesh.elements[0], mesh.elements[7]]);
+        mesh.validate().unwrap();
+        let n = mesh.element_count();
+        // A linear radiosity ramp in x: vertex values must reproduce it wherever elements are
+        // symmetric about the vertex, and the mesh must be watertight.
+        let b: Vec<Rgb> = (0..n)
+            .map(|e| Rgb::splat(f64::from(mesh.element(e).face.centroid().x)))
+            .collect();
+        let lit = lit_mesh(&mesh, &b);
+        assert_watertight(&lit);
+    }
+
+    #[test]
+    fn vertex_value_is_area_weighted_mean() {
+        let mesh = Mesh::build(&square(), Subdivision::Elements(4));
+        let b = [1.0, 2.0, 3.0, 4.0].map(Rgb::splat);
+        let lit = lit_mesh(&mesh, &b);
+        let centre = lit
+            .positions
+            .iter()
+            .position(|&p| p == Vec3::new(0.5, 0.5, 0.0))
+            .unwrap();
+        assert_eq!(lit.radiosity[centre], Rgb::splat(2.5));
+    }
+}
