@@ -1,1 +1,352 @@
-//! Form factors (in progress).
+//! Form factors: how much of the light leaving one surface lands on another.
+//!
+//! The form factor from a receiving element i to a source j is
+//!
+//! ```text
+//! F_ij = (1/A_i) ∫_{A_i} ∫_{A_j} cosθ_i cosθ_j V(x, y) / (π r²) dA_j dA_i ,
+//! ```
+//!
+//! with reciprocity A_i F_ij = A_j F_ji and, in a closed scene, Σ_j F_ij = 1. Both methods here
+//! evaluate the inner integral *exactly* for the unoccluded case with Lambert's contour
+//! integral ([`analytic::point_to_polygon`]), at an n × n grid of quadrature points on the
+//! receiver (midpoint rule, weighted by area), so they share the same kernel:
+//!
+//! - [`Method::Analytic`]: no visibility at all. Exact (up to the receiver quadrature) for
+//!   convex enclosures such as the furnace cube, where nothing can block anything; wrong
+//!   wherever something casts a shadow.
+//! - [`Method::RayCast`]: the unoccluded value times the fraction of shadow rays between
+//!   stratified points on the receiver and on the source that reach their target through the
+//!   BVH (Wallace, Elmquist & Haines 1989 sample visibility by rays; multiplying the visible
+//!   fraction by the exact unoccluded factor is the estimator of Hanrahan, Salzman & Aupperle
+//!   1991). The jitter of every ray comes from a hash of (element, source, ray, seed), so the
+//!   result depends on neither the thread count nor the order of the calls.
+//!
+//! Pairs on the same patch (coplanar: cosθ = 0) and pairs that face away from each other get 0
+//! without any work.
+//!
+//! The defaults were measured on the Cornell box (see [`Settings::default`]).
+
+pub mod analytic;
+pub mod raycast;
+
+use std::fmt;
+use std::str::FromStr;
+
+use glam::{DVec3, Vec3};
+
+use crate::accel::Bvh;
+use crate::mesh::{Face, Mesh};
+
+/// What a form-factor method needs to see: the mesh, its visibility structure, and the sources.
+#[derive(Clone, Copy, Debug)]
+pub struct Geometry<'a> {
+    /// Patches and element quadtrees; receivers are the elements.
+    pub mesh: &'a Mesh,
+    /// Hierarchy over `mesh.triangles`, for visibility.
+    pub bvh: &'a Bvh,
+    /// Node ids (into `mesh.nodes`) of the sources: a cut through the quadtrees
+    /// (see [`Mesh::sources`]).
+    pub sources: &'a [u32],
+}
+
+impl<'a> Geometry<'a> {
+    /// Bundles the three.
+    #[must_use]
+    pub fn new(mesh: &'a Mesh, bvh: &'a Bvh, sources: &'a [u32]) -> Self {
+        Self { mesh, bvh, sources }
+    }
+
+    /// The face of source `s` (an index into `sources`).
+    #[must_use]
+    pub fn source_face(&self, s: usize) -> &'a Face {
+        &self.mesh.nodes[self.sources[s] as usize].face
+    }
+
+    /// The patch of source `s`.
+    #[must_use]
+    pub fn source_patch(&self, s: usize) -> u32 {
+        self.mesh.nodes[self.sources[s] as usize].patch
+    }
+}
+
+/// A way of computing form factors between elements (receivers) and sources.
+///
+/// Both calls must give bit-identical values for the same pair, whatever the thread count.
+pub trait FormFactors: Sync {
+    /// F from element `element` to every source, for gathering: `out[s] = F_{element→s}`.
+    /// `out.len()` is the number of sources.
+    fn row(&self, g: &Geometry, element: usize, out: &mut [f32]);
+
+    /// F from every element to source `source`, for shooting: `out[e] = F_{e→source}`.
+    /// `out.len()` is the number of elements.
+    fn column(&self, g: &Geometry, source: usize, out: &mut [f32]);
+}
+
+/// The form-factor methods.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// Lambert's contour integral without visibility (convex enclosures only).
+    Analytic,
+    /// Lambert's contour integral times a ray-cast visibility fraction.
+    #[default]
+    RayCast,
+}
+
+impl Method {
+    /// Every method, in the order the command line lists them.
+    pub const ALL: [Method; 2] = [Method::Analytic, Method::RayCast];
+
+    /// The name used on the command line and in stats.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Analytic => "analytic",
+            Method::RayCast => "raycast",
+        }
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// An unknown method name.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown form-factor method `{0}` (choose analytic or raycast)")]
+pub struct UnknownMethod(pub String);
+
+impl FromStr for Method {
+    type Err = UnknownMethod;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Method::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| UnknownMethod(s.to_owned()))
+    }
+}
+
+/// Form-factor options.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// Which method.
+    pub method: Method,
+    /// Side n of the n × n grid of quadrature points on each receiver (at least 1).
+    pub quadrature: u32,
+    /// Shadow rays per element–source pair (ray casting only; at least 1).
+    pub rays: u32,
+    /// Seed of the ray jitter.
+    pub seed: u64,
+}
+
+impl Default for Settings {
+    /// Ray casting, 2 × 2 quadrature points and 16 rays per pair. Measured on the built-in
+    /// Cornell box at 948 elements (all sources, Gauss-Seidel to 10⁻⁶, release build, 2 threads)
+    /// against 4 × 4 points and 256 rays:
+    ///
+    /// | points, rays | pairs/s | worst object mean | element RMS |
+    /// |---|---|---|---|
+    /// | 1, 1   | 4.7 M  | 1.2 %  | 0.69 % |
+    /// | 1, 4   | 2.1 M  | 1.2 %  | 0.28 % |
+    /// | 4, 4   | 0.91 M | 0.23 % | 0.26 % |
+    /// | 4, 16  | 0.57 M | 0.22 % | 0.10 % |
+    /// | 9, 16  | 0.54 M | 0.16 % | 0.097 % |
+    /// | 4, 64  | 0.21 M | 0.23 % | 0.075 % |
+    ///
+    /// The object means are set by the quadrature (one point is 1 % off, four are 0.2 %), the
+    /// element noise by the rays; at 16 rays the noise meets the quadrature's floor, and more
+    /// costs much more for little. (Analytic: 8.3 M pairs/s at one point, 3.4 M at four, but
+    /// 130 % off on the shadowed objects: no visibility.)
+    fn default() -> Self {
+        Self {
+            method: Method::RayCast,
+            quadrature: 2,
+            rays: 16,
+            seed: 0,
+        }
+    }
+}
+
+/// The form-factor computer that `settings` describe.
+#[must_use]
+pub fn build(settings: &Settings) -> Box<dyn FormFactors> {
+    match settings.method {
+        Method::Analytic => Box::new(analytic::Analytic::new(settings.quadrature)),
+        Method::RayCast => Box::new(raycast::RayCast::new(
+            settings.quadrature,
+            settings.rays,
+            settings.seed,
+        )),
+    }
+}
+
+/// Quadrature points and weights (summing to 1) of a receiver, with its unit normal.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Receiver {
+    /// Points with their weights.
+    pub points: Vec<(DVec3, f64)>,
+    /// Unit normal.
+    pub normal: DVec3,
+}
+
+impl Receiver {
+    /// Fills the midpoint rule of an n × n grid on `face`: for a quadrilateral the cell centres
+    /// of the bilinear map weighted by its Jacobian (exact cell areas for a planar quad), for a
+    /// triangle the centroids of its n² congruent sub-triangles.
+    pub fn set(&mut self, face: &Face, n: u32) {
+        let n = n.max(1);
+        self.points.clear();
+        self.normal = face.normal().as_dvec3();
+        let h = 1.0 / f64::from(n);
+        let corner = |k: usize| face.corners()[k].as_dvec3();
+        if face.is_quad() {
+            let (a, b, cc, d) = (corner(0), corner(1), corner(2), corner(3));
+            for j in 0..n {
+                for i in 0..n {
+                    let (u, v) = ((f64::from(i) + 0.5) * h, (f64::from(j) + 0.5) * h);
+                    let bottom = a.lerp(b, u);
+                    let top = d.lerp(cc, u);
+                    let du = (b - a).lerp(cc - d, v);
+                    let dv = top - bottom;
+                    self.points
+                        .push((bottom.lerp(top, v), du.cross(dv).length()));
+                }
+            }
+        } else {
+            let a = corner(0);
+            let (e1, e2) = (corner(1) - a, corner(2) - a);
+            let at = |u: f64, v: f64| a + e1 * (u * h) + e2 * (v * h);
+            for i in 0..n {
+                for j in 0..n - i {
+                    let (fi, fj) = (f64::from(i), f64::from(j));
+                    self.points.push((at(fi + 1.0 / 3.0, fj + 1.0 / 3.0), 1.0));
+                    if i + j + 1 < n {
+                        self.points.push((at(fi + 2.0 / 3.0, fj + 2.0 / 3.0), 1.0));
+                    }
+                }
+            }
+        }
+        let total: f64 = self.points.iter().map(|p| p.1).sum();
+        if total > 0.0 {
+            for p in &mut self.points {
+                p.1 /= total;
+            }
+        }
+    }
+}
+
+/// Whether two faces can exchange light at all: some corner of each lies strictly in front of
+/// the other's plane. Coplanar faces, and faces back to back, cannot.
+pub(crate) fn facing(receiver: &Face, source: &Face) -> bool {
+    let in_front = |of: &Face, points: &[Vec3]| {
+        let (n, p) = (of.normal(), of.corners()[0]);
+        let scale = of.diameter().max(f32::MIN_POSITIVE);
+        points.iter().any(|&q| n.dot(q - p) > 1e-6 * scale)
+    };
+    in_front(receiver, source.corners()) && in_front(source, receiver.corners())
+}
+
+/// The unoccluded form factor from a receiver to a source polygon: the weighted sum of
+/// Lambert's point-to-polygon factor over the receiver's quadrature points.
+pub(crate) fn unoccluded(receiver: &Receiver, source: &[DVec3]) -> f64 {
+    receiver
+        .points
+        .iter()
+        .map(|&(x, w)| w * analytic::point_to_polygon(x, receiver.normal, source))
+        .sum()
+}
+
+/// The unoccluded form factor from element `e` (whose quadrature is `receiver`) to source `s`,
+/// or 0 without work for a pair on one patch or a pair facing away.
+pub(crate) fn pair_unoccluded(g: &Geometry, receiver: &Receiver, e: usize, s: usize) -> f64 {
+    let element = g.mesh.element(e);
+    let source = &g.mesh.nodes[g.sources[s] as usize];
+    if element.patch == source.patch || !facing(&element.face, &source.face) {
+        return 0.0;
+    }
+    let mut corners = [DVec3::ZERO; 4];
+    let cs = source.face.corners();
+    for (o, c) in corners.iter_mut().zip(cs) {
+        *o = c.as_dvec3();
+    }
+    unoccluded(receiver, &corners[..cs.len()])
+}
+
+/// Computes `out[s] = pair(receiver, s)` for every source of one element.
+pub(crate) fn row_with<F>(g: &Geometry, n: u32, element: usize, out: &mut [f32], pair: F)
+where
+    F: Fn(&Receiver, usize) -> f32,
+{
+    let mut receiver = Receiver::default();
+    receiver.set(&g.mesh.element(element).face, n);
+    for (s, value) in out.iter_mut().enumerate() {
+        *value = pair(&receiver, s);
+    }
+}
+
+/// Computes `out[e] = pair(receiver e, source)` for every element in parallel chunks, with one
+/// reusable receiver buffer per chunk (each value depends on its pair only).
+pub(crate) fn column_with<F>(g: &Geometry, n: u32, out: &mut [f32], pair: F)
+where
+    F: Fn(&Receiver, usize) -> f32 + Sync,
+{
+    use rayon::prelude::*;
+    const CHUNK: usize = 256;
+    out.par_chunks_mut(CHUNK)
+        .enumerate()
+        .for_each(|(chunk, values)| {
+            let mut receiver = Receiver::default();
+            for (k, value) in values.iter_mut().enumerate() {
+                let e = chunk * CHUNK + k;
+                receiver.set(&g.mesh.element(e).face, n);
+                *value = pair(&receiver, e);
+            }
+        });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn method_names_round_trip_and_errors_list_choices() {
+        for m in Method::ALL {
+            assert_eq!(m.name().parse::<Method>(), Ok(m));
+        }
+        let err = "hemicube".parse::<Method>().unwrap_err().to_string();
+        assert!(err.contains("analytic") && err.contains("raycast"), "{err}");
+    }
+
+    #[test]
+    fn quadrature_weights_sum_to_one_and_centroid_is_exact() {
+        let tri = Face::triangle(
+            Vec3::ZERO,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.5),
+        );
+        let quad = Face::quad(
+            Vec3::ZERO,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(2.5, 1.0, 0.0),
+            Vec3::new(0.5, 1.0, 0.0),
+        );
+        let mut r = Receiver::default();
+        for face in [tri, quad] {
+            for n in 1..5 {
+                r.set(&face, n);
+                assert_eq!(r.points.len(), (n * n) as usize);
+                let w: f64 = r.points.iter().map(|p| p.1).sum();
+                assert!((w - 1.0).abs() < 1e-12);
+                // The midpoint rule integrates linear functions exactly: the weighted mean of
+                // the points is the centroid.
+                let mean: DVec3 = r.points.iter().map(|p| p.0 * p.1).sum();
+                assert!(
+                    (mean - face.centroid().as_dvec3()).length() < 1e-6,
+                    "{face:?} {n}"
+                );
+            }
+        }
+    }
+}

@@ -1,2 +1,6 @@
 //! File input and output (in progress).
+pub mod atomic;
+pub mod gltf;
+pub mod image_file;
 pub mod obj;
+pub mod ply;

@@ -227,7 +227,9 @@ impl Mesh {
         }
         let threshold = self.total_area() / max_sources.max(1) as f64;
         let mut out = Vec::new();
-        let mut stack: Vec<u32> = self.roots.iter().flat_map(|r| r.clone().rev()).collect();
+        // Depth-first, roots in patch order: sources come out in element order.
+        let mut stack: Vec<u32> = self.roots.iter().flat_map(|r| r.clone()).collect();
+        stack.reverse();
         while let Some(n) = stack.pop() {
             let node = &self.nodes[n as usize];
             match node.children {

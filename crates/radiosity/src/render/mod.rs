@@ -1,1 +1,20 @@
-//! Rendering (in progress).
+//! Rendering the lit mesh into images of radiance.
+//!
+//! The solve is viewer independent; this module looks at its product, the
+//! [`LitMesh`](crate::mesh::LitMesh), from a [`Camera`](crate::scene::Camera):
+//!
+//! 1. [`camera`]: the perspective projection, world → camera → clip space → pixels, and the
+//!    primary rays of the same camera for ray tracers.
+//! 2. [`raster`]: a z-buffer rasterizer with Gouraud (perspective-correct) interpolation of the
+//!    vertex radiosity, near-plane clipping and stratified supersampling.
+//! 3. [`image`]: the [`Image`] it produces, holding **radiance** L = B/π per channel (linear), so
+//!    it compares pixel for pixel with a path tracer's image of the same scene.
+//! 4. [`tonemap`]: exposure and the sRGB transfer function, for 8-bit output.
+pub mod camera;
+pub mod image;
+pub mod raster;
+pub mod tonemap;
+
+pub use camera::Projection;
+pub use image::Image;
+pub use raster::{render, RasterSettings};

@@ -1,1 +1,408 @@
-//! (in progress)
+//! Building: a validated [`SceneDesc`] (or an OBJ file) becomes the frozen [`Scene`].
+//!
+//! Every shape is turned into planar polygons here, one build function per [`ShapeDesc`]
+//! variant: a polygon as written, a box by [`model::primitives::cuboid`], a sphere by
+//! [`model::primitives::icosphere`], a mesh by [`crate::io::obj`]. The object's transform
+//! (scale → rotate x, y, z → translate, [`model::Transform::from_srt`]) is applied to the
+//! corners, and faces are reversed when it mirrors so that fronts stay fronts.
+//!
+//! Objects that share a name are one object (the Cornell ceiling is four quads named
+//! `ceiling`). Generated and imported faces are checked with
+//! [`super::validate::polygon_problem`]: degenerate ones are skipped and strongly non-planar
+//! ones are split into a triangle fan, each with a counted warning, never an error.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use model::{PolyMesh, Transform};
+
+use super::description::{Field, ObjectDesc, SceneDesc, ShapeDesc};
+use super::validate::{polygon_problem, PolygonProblem};
+use super::{builtin, frame, parse, validate, Camera, Material, Object, Polygon, Scene};
+use super::{Loc, RenderDefaults, SceneError};
+use crate::io::obj::{self, ObjFile};
+
+impl Scene {
+    /// Loads a scene file: `.toml` (the scene format) or `.obj` (a bare mesh, see
+    /// [`Scene::from_obj_file`]).
+    ///
+    /// # Errors
+    /// The file cannot be read, has another extension, or is not a valid scene; the error
+    /// names the file, line, column and key where they apply.
+    pub fn load(path: &Path) -> Result<Self, SceneError> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("toml") => {
+                let text = std::fs::read_to_string(path)
+                    .map_err(|e| SceneError::in_file(path, format!("cannot read: {e}")))?;
+                Self::from_toml_str(&text, path)
+            }
+            Some("obj") => Self::from_obj_file(path),
+            _ => Err(SceneError::in_file(
+                path,
+                "unsupported scene file type (expected .toml or .obj)",
+            )),
+        }
+    }
+
+    /// A scene from TOML text; `file` names it in messages and anchors relative mesh paths.
+    ///
+    /// # Errors
+    /// As [`Scene::load`].
+    pub fn from_toml_str(text: &str, file: &Path) -> Result<Self, SceneError> {
+        let desc = parse::parse(text, file)?;
+        validate::validate(&desc)?;
+        build(&desc)
+    }
+
+    /// A bare OBJ file as a scene: one object per `o`/`g` name, materials from its MTL files
+    /// made two-sided (emitters still emit from the front only), and a framed camera
+    /// ([`frame::frame`]).
+    ///
+    /// # Errors
+    /// The file cannot be read or is malformed (see [`crate::io::obj`]), or has no usable face.
+    pub fn from_obj_file(path: &Path) -> Result<Self, SceneError> {
+        let obj = obj::read_obj(path)?;
+        let mut b = Builder::new(path);
+        b.scene.warnings = obj.warnings.clone();
+        let base = b.scene.materials.len();
+        b.scene
+            .materials
+            .extend(obj.materials.iter().map(|m| Material {
+                two_sided: true,
+                ..m.clone()
+            }));
+        let objects: Vec<usize> = obj.groups.iter().map(|g| b.object(g)).collect();
+        b.add_obj(
+            &obj,
+            |f| (base + f.material, objects[f.group]),
+            &Transform::IDENTITY,
+            &path.display().to_string(),
+        );
+        b.finish(Vec::new(), RenderDefaults::default())
+    }
+
+    /// A built-in scene by name (see [`builtin::names`]) or else a scene file path.
+    ///
+    /// # Errors
+    /// As [`Scene::load`]; a path that does not exist also lists the built-in names.
+    pub fn resolve(arg: &str) -> Result<Self, SceneError> {
+        let path = Path::new(arg);
+        if !path.exists() {
+            if let Some(scene) = builtin::load(arg) {
+                return scene;
+            }
+            let names: Vec<&str> = builtin::names().iter().map(|(n, _)| *n).collect();
+            return Err(SceneError::in_file(
+                path,
+                format!(
+                    "no such file, and not a built-in scene (built-ins: {})",
+                    names.join(", ")
+                ),
+            ));
+        }
+        Self::load(path)
+    }
+
+    /// The camera named `name`.
+    #[must_use]
+    pub fn camera(&self, name: &str) -> Option<&Camera> {
+        self.cameras.iter().find(|c| c.name == name)
+    }
+}
+
+/// Builds a validated description into a scene.
+///
+/// # Errors
+/// A mesh file cannot be read or is malformed, or the scene ends up with no polygon.
+pub fn build(desc: &SceneDesc) -> Result<Scene, SceneError> {
+    let mut b = Builder::new(&desc.file);
+    b.scene.materials = desc
+        .materials
+        .iter()
+        .map(|m| Material {
+            name: m.name.value.clone(),
+            reflectance: m.reflectance.value,
+            emission: m.emission.value,
+            two_sided: m.two_sided,
+            specular: m.specular.value,
+            transmission: m.transmission.value,
+            ior: m.ior.value,
+        })
+        .collect();
+    for o in &desc.objects {
+        build_object(&mut b, desc, o)?;
+    }
+    let cameras = desc
+        .cameras
+        .iter()
+        .map(|c| Camera {
+            name: c.name.value.clone(),
+            eye: c.eye.value,
+            target: c.target.value,
+            up: c.up.value,
+            fov_y: c.fov_y.value,
+        })
+        .collect();
+    let defaults = RenderDefaults::default();
+    let render = RenderDefaults {
+        width: desc
+            .render
+            .width
+            .as_ref()
+            .map_or(defaults.width, |w| w.value),
+        height: desc
+            .render
+            .height
+            .as_ref()
+            .map_or(defaults.height, |h| h.value),
+    };
+    b.finish(cameras, render)
+}
+
+/// One `[[objects]]` entry into polygons.
+fn build_object(b: &mut Builder, desc: &SceneDesc, o: &ObjectDesc) -> Result<(), SceneError> {
+    let object = b.object(&o.name());
+    let material = o
+        .material
+        .as_ref()
+        .and_then(|m| b.scene.materials.iter().position(|d| d.name == m.value));
+    let transform = o.transform.as_ref().map_or(Transform::IDENTITY, |t| {
+        Transform::from_srt(t.scale.value, t.rotate.value, t.translate.value)
+    });
+    let label = format!("objects[{}] (`{}`)", o.index, o.name());
+    // Validation guarantees the material exists for every shape but `mesh`.
+    let m = material.unwrap_or(0);
+    match &o.shape {
+        ShapeDesc::Polygon { vertices } => {
+            build_polygon(b, &vertices.value, &transform, m, object);
+        }
+        ShapeDesc::Box { min, max } => {
+            let mesh = model::primitives::cuboid(min.value, max.value);
+            b.add_mesh(mesh, &transform, m, object, &label);
+        }
+        ShapeDesc::Sphere {
+            center,
+            radius,
+            subdivisions,
+        } => {
+            let mesh = model::primitives::icosphere(center.value, radius.value, subdivisions.value);
+            b.add_mesh(mesh, &transform, m, object, &label);
+        }
+        ShapeDesc::Mesh { path } => {
+            build_mesh(b, desc, path, &transform, material, object, &label)?
+        }
+    }
+    Ok(())
+}
+
+/// A polygon as written (already validated), transformed.
+fn build_polygon(
+    b: &mut Builder,
+    vertices: &[Vec3],
+    t: &Transform,
+    material: usize,
+    object: usize,
+) {
+    let mut vs: Vec<Vec3> = vertices.iter().map(|&v| t.point(v)).collect();
+    if t.mirrors() {
+        vs.reverse();
+    }
+    // Drop repeated consecutive corners (and a closing repeat of the first).
+    vs.dedup();
+    if vs.len() > 1 && vs.first() == vs.last() {
+        vs.pop();
+    }
+    b.scene.polygons.push(Polygon {
+        vertices: vs,
+        material,
+        object,
+    });
+}
+
+/// An OBJ file as the faces of one object, with its own materials unless `material` is given.
+fn build_mesh(
+    b: &mut Builder,
+    desc: &SceneDesc,
+    path: &Field<PathBuf>,
+    transform: &Transform,
+    material: Option<usize>,
+    object: usize,
+    label: &str,
+) -> Result<(), SceneError> {
+    let full = desc
+        .file
+        .parent()
+        .unwrap_or(Path::new(""))
+        .join(&path.value);
+    let at = Loc {
+        file: desc.file.clone(),
+        line: path.pos.line,
+        col: path.pos.col,
+    };
+    let text = std::fs::read_to_string(&full).map_err(|e| {
+        SceneError::at(at, format!("cannot read mesh `{}`: {e}", full.display()))
+            .with_key(path.key.clone())
+    })?;
+    let obj = obj::parse_obj(&text, &full)?;
+    b.scene.warnings.extend(obj.warnings.iter().cloned());
+    let base = b.scene.materials.len();
+    if material.is_none() {
+        b.scene.materials.extend(obj.materials.iter().cloned());
+    }
+    b.add_obj(
+        &obj,
+        |f| (material.unwrap_or(base + f.material), object),
+        transform,
+        label,
+    );
+    Ok(())
+}
+
+/// A scene under construction.
+struct Builder {
+    file: PathBuf,
+    scene: Scene,
+    objects: HashMap<String, usize>,
+}
+
+impl Builder {
+    fn new(file: &Path) -> Self {
+        let stem = file.file_stem().and_then(|s| s.to_str()).unwrap_or("scene");
+        // `scenes/cornell/scene.toml` is called `cornell`.
+        let name = match file
+            .parent()
+            .and_then(|p| p.file_name())
+            .and_then(|p| p.to_str())
+        {
+            Some(dir) if stem == "scene" => dir,
+            _ => stem,
+        };
+        Self {
+            file: file.to_path_buf(),
+            scene: Scene {
+                name: name.to_string(),
+                ..Scene::default()
+            },
+            objects: HashMap::new(),
+        }
+    }
+
+    /// The index of the object called `name`, created on first use.
+    fn object(&mut self, name: &str) -> usize {
+        if let Some(&i) = self.objects.get(name) {
+            return i;
+        }
+        self.scene.objects.push(Object { name: name.into() });
+        let i = self.scene.objects.len() - 1;
+        self.objects.insert(name.into(), i);
+        i
+    }
+
+    /// Faces of a generated mesh, transformed and checked.
+    fn add_mesh(
+        &mut self,
+        mut mesh: PolyMesh,
+        t: &Transform,
+        material: usize,
+        object: usize,
+        label: &str,
+    ) {
+        mesh.transform(t);
+        let faces = (0..mesh.faces.len()).map(|f| mesh.face_positions(f));
+        self.add_faces(faces.map(|f| (f, material, object)), label);
+    }
+
+    /// Faces of an OBJ file, transformed and checked; `assign` gives each face its material
+    /// and object.
+    fn add_obj(
+        &mut self,
+        obj: &ObjFile,
+        assign: impl Fn(&obj::ObjFace) -> (usize, usize),
+        t: &Transform,
+        label: &str,
+    ) {
+        let faces = obj.faces.iter().map(|f| {
+            let mut vs: Vec<Vec3> = f.positions(obj).into_iter().map(|p| t.point(p)).collect();
+            if t.mirrors() {
+                vs.reverse();
+            }
+            let (material, object) = assign(f);
+            (vs, material, object)
+        });
+        self.add_faces(faces, label);
+    }
+
+    /// Adds faces, skipping degenerate ones and fanning strongly non-planar ones, with a
+    /// warning for each kind.
+    fn add_faces(&mut self, faces: impl Iterator<Item = (Vec<Vec3>, usize, usize)>, label: &str) {
+        let (mut skipped, mut split) = (0usize, 0usize);
+        for (mut vs, material, object) in faces {
+            vs.dedup();
+            if vs.len() > 1 && vs.first() == vs.last() {
+                vs.pop();
+            }
+            let pieces = match polygon_problem(&vs) {
+                None => vec![vs],
+                Some(PolygonProblem::NonPlanar(_)) => {
+                    split += 1;
+                    (1..vs.len() - 1)
+                        .map(|i| vec![vs[0], vs[i], vs[i + 1]])
+                        .filter(|tri| polygon_problem(tri).is_none())
+                        .collect()
+                }
+                Some(_) => {
+                    skipped += 1;
+                    Vec::new()
+                }
+            };
+            self.scene
+                .polygons
+                .extend(pieces.into_iter().map(|vertices| Polygon {
+                    vertices,
+                    material,
+                    object,
+                }));
+        }
+        if skipped > 0 {
+            self.scene
+                .warnings
+                .push(format!("{label}: skipped {skipped} degenerate face(s)"));
+        }
+        if split > 0 {
+            self.scene.warnings.push(format!(
+                "{label}: split {split} non-planar face(s) into triangles"
+            ));
+        }
+    }
+
+    /// The finished scene: at least one polygon, and a camera (framed if none was given).
+    fn finish(mut self, cameras: Vec<Camera>, render: RenderDefaults) -> Result<Scene, SceneError> {
+        if self.scene.polygons.is_empty() {
+            return Err(SceneError::in_file(&self.file, "the scene has no polygons"));
+        }
+        let materials = &self.scene.materials;
+        if !self
+            .scene
+            .polygons
+            .iter()
+            .any(|p| materials[p.material].is_emitter())
+        {
+            self.scene.warnings.push(format!(
+                "{}: no material emits light; the scene will be black",
+                self.file.display()
+            ));
+        }
+        self.scene.cameras = if cameras.is_empty() {
+            vec![frame::frame(&self.scene.polygons)]
+        } else {
+            cameras
+        };
+        self.scene.render = render;
+        Ok(self.scene)
+    }
+}

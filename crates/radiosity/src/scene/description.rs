@@ -1,1 +1,176 @@
-//! (in progress)
+//! Scene descriptions: what a scene file says, before it is checked or built.
+//!
+//! Plain structs, one per table of the format (DESIGN.md §6), in which every value keeps where
+//! it was written ([`Field`]: its 1-based line and column and its dotted key path), so that
+//! [`super::validate`] and [`super::build`] can point at the exact spot of a problem, as
+//! pbrt-v4's scene entities keep their `FileLoc`.
+//!
+//! Shapes are a closed enum, [`ShapeDesc`]: a new kind of object (a Bézier patch, a CSG tree)
+//! is one more variant, one entry in the parser's shape table (its keys), and one build
+//! function that turns it into polygons.
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+
+use crate::Rgb;
+
+/// A 1-based line and column in the scene file.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Pos {
+    /// 1-based line.
+    pub line: usize,
+    /// 1-based column (in characters).
+    pub col: usize,
+}
+
+/// A value with the place it was written and its key path (`objects[2].material`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Field<T> {
+    /// The value.
+    pub value: T,
+    /// Where the value (or, for a default, its table) was written.
+    pub pos: Pos,
+    /// Dotted key path.
+    pub key: String,
+}
+
+impl<T> Field<T> {
+    /// The same place and key with the value mapped.
+    #[must_use]
+    pub fn map<U>(self, f: impl FnOnce(T) -> U) -> Field<U> {
+        Field {
+            value: f(self.value),
+            pos: self.pos,
+            key: self.key,
+        }
+    }
+}
+
+/// A whole scene file.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SceneDesc {
+    /// The file, for messages and for resolving relative mesh paths.
+    pub file: PathBuf,
+    /// `[camera]` or `[[cameras]]`, in order (the first is the default); may be empty.
+    pub cameras: Vec<CameraDesc>,
+    /// `[render]`.
+    pub render: RenderDesc,
+    /// `[materials.NAME]`, in file order.
+    pub materials: Vec<MaterialDesc>,
+    /// `[[objects]]`, in file order.
+    pub objects: Vec<ObjectDesc>,
+}
+
+/// A perspective camera.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraDesc {
+    /// `name` (`default` for a lone `[camera]`).
+    pub name: Field<String>,
+    /// `eye`.
+    pub eye: Field<Vec3>,
+    /// `target`.
+    pub target: Field<Vec3>,
+    /// `up` (default +y).
+    pub up: Field<Vec3>,
+    /// `fov_y` in degrees (default 40).
+    pub fov_y: Field<f32>,
+}
+
+/// Image size defaults.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RenderDesc {
+    /// `width` in pixels.
+    pub width: Option<Field<u32>>,
+    /// `height` in pixels.
+    pub height: Option<Field<u32>>,
+}
+
+/// A material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaterialDesc {
+    /// The table name (`[materials.NAME]`).
+    pub name: Field<String>,
+    /// `reflectance` ρ (default 0).
+    pub reflectance: Field<Rgb>,
+    /// `emission`: emitted radiance (default 0).
+    pub emission: Field<Rgb>,
+    /// `two_sided` (default false).
+    pub two_sided: bool,
+    /// `specular` (default 0).
+    pub specular: Field<Rgb>,
+    /// `transmission` (default 0).
+    pub transmission: Field<Rgb>,
+    /// `ior` (default 1.5).
+    pub ior: Field<f64>,
+}
+
+/// One `[[objects]]` entry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ObjectDesc {
+    /// Position in the `objects` array (names unnamed objects: `object3`).
+    pub index: usize,
+    /// Where the entry starts.
+    pub pos: Pos,
+    /// `name`.
+    pub name: Option<Field<String>>,
+    /// `material` (required except for meshes, where it overrides the file's materials).
+    pub material: Option<Field<String>>,
+    /// `transform`.
+    pub transform: Option<TransformDesc>,
+    /// `shape` and the shape's own keys.
+    pub shape: ShapeDesc,
+}
+
+impl ObjectDesc {
+    /// The object's name, or the generated `object{index}`.
+    #[must_use]
+    pub fn name(&self) -> String {
+        self.name
+            .as_ref()
+            .map_or_else(|| format!("object{}", self.index), |n| n.value.clone())
+    }
+}
+
+/// `transform = { scale, rotate, translate }`: scale, then rotate about x, y, z (degrees), then
+/// translate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TransformDesc {
+    /// `scale` (a number or a 3-vector; default 1).
+    pub scale: Field<Vec3>,
+    /// `rotate` in degrees (default 0).
+    pub rotate: Field<Vec3>,
+    /// `translate` (default 0).
+    pub translate: Field<Vec3>,
+}
+
+/// The shape of an object and its own keys.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ShapeDesc {
+    /// `shape = "polygon"`: one planar polygon.
+    Polygon {
+        /// `vertices`, counter-clockwise seen from the front.
+        vertices: Field<Vec<Vec3>>,
+    },
+    /// `shape = "box"`: an axis-aligned box, faces outward.
+    Box {
+        /// `min` corner.
+        min: Field<Vec3>,
+        /// `max` corner.
+        max: Field<Vec3>,
+    },
+    /// `shape = "sphere"`: a subdivided icosahedron.
+    Sphere {
+        /// `center`.
+        center: Field<Vec3>,
+        /// `radius`.
+        radius: Field<f32>,
+        /// `subdivisions` (default 3: 1280 triangles).
+        subdivisions: Field<u32>,
+    },
+    /// `shape = "mesh"`: an OBJ file.
+    Mesh {
+        /// `path`, as written (relative to the scene file).
+        path: Field<PathBuf>,
+    },
+}

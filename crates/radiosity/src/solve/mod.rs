@@ -1,1 +1,381 @@
-//! Solvers (in progress).
+//! Solvers: bringing the radiosity equation to equilibrium.
+//!
+//! With receivers i (the elements) and sources j (a cut through the element quadtrees, see
+//! [`crate::mesh::Mesh::sources`]), the discrete radiosity equation is
+//!
+//! ```text
+//! B_i = E_i + ρ_i Σ_j F_ij B̄_j ,     B̄_j = Σ_{i ∈ j} A_i B_i / A_j
+//! ```
+//!
+//! (Goral et al. 1984): a source shoots the area-weighted mean radiosity of its elements, which
+//! is the substructuring of Cohen, Greenberg, Immel & Brock 1986. With as many sources as
+//! elements it is the classic n × n system. Three ways to solve it:
+//!
+//! - [`Method::Jacobi`] ([`jacobi`]): gather into a new vector from the old one, all elements in
+//!   parallel, with the form factors stored in a [`matrix::Matrix`].
+//! - [`Method::GaussSeidel`] ([`gauss_seidel`]): gather in place, each element seeing the
+//!   updates already made in the same sweep; about twice as fast to converge, one thread.
+//! - [`Method::Progressive`] ([`progressive`]): shoot the source with the most unshot power,
+//!   computing one column of form factors on the fly (Cohen, Chen, Wallace & Greenberg 1988):
+//!   no n² storage, and a usable picture after a few shots.
+//!
+//! # Residual
+//!
+//! All three report the same measure: the power that the last step still had to move, relative
+//! to the emitted power,
+//!
+//! ```text
+//! r = Σ_i A_i ‖ΔB_i‖₁ / Σ_i A_i ‖E_i‖₁     (‖·‖₁ sums the three channels)
+//! ```
+//!
+//! where ΔB is the change of the last sweep for the gathering methods (B^{k+1} − B^k, which from
+//! B⁰ = E is exactly the light of bounce k + 1) and the unshot radiosity of every source for
+//! progressive refinement. Both are the power not yet distributed, so r = 1 before any work and
+//! the solvers stop when r < [`Settings::tolerance`]. In a scene of reflectance ρ the error left
+//! in the total power is about r·ρ/(1 − ρ) of the emitted power.
+
+pub mod gauss_seidel;
+pub mod jacobi;
+pub mod matrix;
+pub mod progressive;
+
+use std::fmt;
+use std::ops::Range;
+use std::str::FromStr;
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::formfactor::{FormFactors, Geometry};
+use crate::progress::Progress;
+use crate::Rgb;
+
+/// The solvers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// Gathering into a new vector (parallel), with a stored form-factor matrix.
+    Jacobi,
+    /// Gathering in place, with a stored form-factor matrix.
+    #[default]
+    GaussSeidel,
+    /// Shooting the largest unshot power, form factors computed on the fly.
+    Progressive,
+}
+
+impl Method {
+    /// Every method, in the order the command line lists them.
+    pub const ALL: [Method; 3] = [Method::Jacobi, Method::GaussSeidel, Method::Progressive];
+
+    /// The name used on the command line and in stats.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Jacobi => "jacobi",
+            Method::GaussSeidel => "gauss-seidel",
+            Method::Progressive => "progressive",
+        }
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// An unknown solver name.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown solver `{0}` (choose jacobi, gauss-seidel or progressive)")]
+pub struct UnknownMethod(pub String);
+
+impl FromStr for Method {
+    type Err = UnknownMethod;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Method::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| UnknownMethod(s.to_owned()))
+    }
+}
+
+/// Solver options.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// Which solver.
+    pub method: Method,
+    /// Stop when the residual (see the module documentation) falls below this.
+    pub tolerance: f64,
+    /// Stop after this many sweeps (gathering) or shots (progressive) in any case.
+    pub max_iterations: usize,
+    /// Largest form-factor matrix the gathering solvers may allocate, in bytes.
+    pub max_matrix_bytes: u64,
+    /// Most sources the caller should cut the quadtrees into ([`crate::mesh::Mesh::sources`]);
+    /// the matrix is elements × sources.
+    pub max_sources: usize,
+}
+
+impl Default for Settings {
+    /// Gauss-Seidel to a residual of 10⁻⁴, a 1 GiB matrix at most (16 384² form factors) and
+    /// 4096 sources. Measured on the built-in Cornell box at 3792 elements with the default
+    /// form factors (release build, 2 threads): Gauss-Seidel takes 9 sweeps (0.13 s) and
+    /// Jacobi 15 (0.21 s) after 19 s of form factors; progressive refinement needs 23 654 shots
+    /// and 121 s to reach the same residual, because it recomputes a column per shot and must
+    /// shoot every source once per bounce. At 10⁻⁴ the power still unaccounted for is below
+    /// what the form factors' own error (0.2 %) leaves.
+    fn default() -> Self {
+        Self {
+            method: Method::GaussSeidel,
+            tolerance: 1e-4,
+            max_iterations: 100_000,
+            max_matrix_bytes: 1 << 30,
+            max_sources: 4096,
+        }
+    }
+}
+
+/// The result of a solve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solution {
+    /// Radiosity B per element, W·m⁻² per channel (progressive: without the ambient term).
+    pub radiosity: Vec<Rgb>,
+    /// The solver used.
+    pub method: Method,
+    /// Sweeps (gathering) or shots (progressive) done.
+    pub iterations: usize,
+    /// The final residual (see the module documentation).
+    pub residual: f64,
+    /// Non-zero form factors used: stored (gathering) or computed over all shots (progressive).
+    pub links: u64,
+    /// Progressive refinement's ambient term (Cohen et al. 1988): the unshot power spread
+    /// evenly, times the mean interreflection 1/(1 − ρ̄). For display only, add ρ_i · ambient to
+    /// B_i; zero for the gathering methods.
+    pub ambient: Rgb,
+    /// Time spent computing form factors, in seconds.
+    pub form_factor_seconds: f64,
+    /// Time spent solving apart from form factors, in seconds.
+    pub solve_seconds: f64,
+}
+
+/// Why a solve failed.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum SolveError {
+    /// The stored form-factor matrix would exceed the memory limit.
+    #[error(
+        "the form-factor matrix needs {} MiB, more than the limit of {} MiB: use `--solver progressive` (no stored matrix) or raise `--max-memory`",
+        mib(*bytes),
+        mib(*limit)
+    )]
+    MatrixTooLarge {
+        /// Bytes the matrix would take.
+        bytes: u64,
+        /// The limit in force.
+        limit: u64,
+    },
+    /// The sources are not a cut through the quadtrees.
+    #[error("the sources do not cover element {element} exactly once")]
+    BadSources {
+        /// The first element covered by no source or by two.
+        element: usize,
+    },
+}
+
+/// Bytes in MiB, rounded up.
+fn mib(bytes: u64) -> u64 {
+    bytes.div_ceil(1 << 20)
+}
+
+/// Solves the radiosity equation on `g` with form factors from `ff`.
+///
+/// A scene that emits nothing (or has no elements) is solved at once: B = 0, zero iterations,
+/// no form factors computed.
+///
+/// # Errors
+/// [`SolveError::MatrixTooLarge`] when a gathering solver's matrix would exceed
+/// `settings.max_matrix_bytes` (checked before anything is allocated), and
+/// [`SolveError::BadSources`] when `g.sources` is not a cut through the quadtrees.
+pub fn solve(
+    g: &Geometry,
+    ff: &dyn FormFactors,
+    settings: &Settings,
+    progress: &dyn Progress,
+) -> Result<Solution, SolveError> {
+    let system = System::new(g)?;
+    let mut solution = Solution {
+        radiosity: system.emission.clone(),
+        method: settings.method,
+        iterations: 0,
+        residual: 0.0,
+        links: 0,
+        ambient: Rgb::ZERO,
+        form_factor_seconds: 0.0,
+        solve_seconds: 0.0,
+    };
+    if system.emitted <= 0.0 || !system.emitted.is_finite() {
+        return Ok(solution);
+    }
+    match settings.method {
+        Method::Jacobi | Method::GaussSeidel => {
+            let start = Instant::now();
+            let matrix = matrix::Matrix::compute(g, ff, settings.max_matrix_bytes, progress)?;
+            solution.form_factor_seconds = start.elapsed().as_secs_f64();
+            solution.links = matrix.links();
+            let start = Instant::now();
+            progress.start("solve", settings.max_iterations as u64);
+            let run = if settings.method == Method::Jacobi {
+                jacobi::run(&system, &matrix, settings, progress)
+            } else {
+                gauss_seidel::run(&system, &matrix, settings, progress)
+            };
+            progress.finish();
+            solution.radiosity = run.radiosity;
+            solution.iterations = run.iterations;
+            solution.residual = run.residual;
+            solution.solve_seconds = start.elapsed().as_secs_f64();
+        }
+        Method::Progressive => {
+            let start = Instant::now();
+            progress.start("solve", settings.max_iterations as u64);
+            let run = progressive::run(&system, g, ff, settings, progress);
+            progress.finish();
+            solution.radiosity = run.radiosity;
+            solution.iterations = run.iterations;
+            solution.residual = run.residual;
+            solution.links = run.links;
+            solution.ambient = run.ambient;
+            solution.form_factor_seconds = run.form_factor_seconds;
+            solution.solve_seconds = start.elapsed().as_secs_f64() - run.form_factor_seconds;
+        }
+    }
+    Ok(solution)
+}
+
+/// What an iterative solver returns.
+pub(crate) struct Run {
+    radiosity: Vec<Rgb>,
+    iterations: usize,
+    residual: f64,
+}
+
+/// The linear system in solver-friendly arrays.
+pub(crate) struct System {
+    /// Area of each element.
+    area: Vec<f64>,
+    /// ρ of each element.
+    reflectance: Vec<Rgb>,
+    /// E of each element.
+    emission: Vec<Rgb>,
+    /// Source (index into the sources) of each element.
+    source_of: Vec<u32>,
+    /// Elements of each source.
+    source_elements: Vec<Range<usize>>,
+    /// Area of each source: the sum of its elements' areas.
+    source_area: Vec<f64>,
+    /// Σ A ‖E‖₁, the denominator of the residual.
+    emitted: f64,
+}
+
+impl System {
+    fn new(g: &Geometry) -> Result<Self, SolveError> {
+        let mesh = g.mesh;
+        let n = mesh.element_count();
+        let area: Vec<f64> = (0..n).map(|e| mesh.element(e).face.area()).collect();
+        let reflectance = (0..n).map(|e| mesh.element_patch(e).reflectance).collect();
+        let emission: Vec<Rgb> = (0..n).map(|e| mesh.element_patch(e).emission).collect();
+        let mut source_of = vec![u32::MAX; n];
+        let mut source_elements = Vec::with_capacity(g.sources.len());
+        for (s, &node) in g.sources.iter().enumerate() {
+            let range = mesh.nodes[node as usize].elements.clone();
+            let range = range.start as usize..range.end as usize;
+            for e in range.clone() {
+                if source_of[e] != u32::MAX {
+                    return Err(SolveError::BadSources { element: e });
+                }
+                source_of[e] = s as u32;
+            }
+            source_elements.push(range);
+        }
+        if let Some(e) = source_of.iter().position(|&s| s == u32::MAX) {
+            return Err(SolveError::BadSources { element: e });
+        }
+        let source_area = source_elements
+            .iter()
+            .map(|r| area[r.clone()].iter().sum())
+            .collect();
+        let emitted = power(&area, &emission);
+        Ok(Self {
+            area,
+            reflectance,
+            emission,
+            source_of,
+            source_elements,
+            source_area,
+            emitted,
+        })
+    }
+
+    /// Area-weighted mean radiosity of every source, into `out` (in parallel; each mean is a
+    /// sequential sum, so the result does not depend on the thread count).
+    fn source_means(&self, b: &[Rgb], out: &mut [Rgb]) {
+        out.par_iter_mut().enumerate().for_each(|(s, mean)| {
+            let range = self.source_elements[s].clone();
+            let sum: Rgb = range.map(|e| b[e] * self.area[e]).sum();
+            *mean = if self.source_area[s] > 0.0 {
+                sum / self.source_area[s]
+            } else {
+                Rgb::ZERO
+            };
+        });
+    }
+
+    /// The residual of a change from `old` to `new`: Σ A ‖new − old‖₁ / Σ A ‖E‖₁.
+    fn residual(&self, old: &[Rgb], new: &[Rgb]) -> f64 {
+        let sum: f64 = old
+            .iter()
+            .zip(new)
+            .zip(&self.area)
+            .map(|((a, b), area)| area * l1(*b - *a))
+            .sum();
+        sum / self.emitted
+    }
+}
+
+/// Σ A ‖x‖₁.
+fn power(area: &[f64], x: &[Rgb]) -> f64 {
+    area.iter().zip(x).map(|(a, x)| a * l1(*x)).sum()
+}
+
+/// Sum of the absolute values of the channels.
+fn l1(x: Rgb) -> f64 {
+    x.abs().element_sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn method_names_round_trip_and_errors_list_choices() {
+        for m in Method::ALL {
+            assert_eq!(m.name().parse::<Method>(), Ok(m));
+        }
+        let err = "hierarchical".parse::<Method>().unwrap_err().to_string();
+        for m in Method::ALL {
+            assert!(err.contains(m.name()), "{err}");
+        }
+    }
+
+    #[test]
+    fn matrix_error_names_the_alternatives() {
+        let e = SolveError::MatrixTooLarge {
+            bytes: 3 << 30,
+            limit: 1 << 30,
+        };
+        let msg = e.to_string();
+        assert!(msg.contains("--solver progressive") && msg.contains("--max-memory"));
+        assert!(
+            msg.contains("3072 MiB") && msg.contains("1024 MiB"),
+            "{msg}"
+        );
+    }
+}

@@ -1,0 +1,224 @@
+//! The exact unoccluded form factor from a differential area to a polygon, and the closed forms
+//! of the catalogue that tests compare against.
+//!
+//! # Lambert's contour integral
+//!
+//! By Stokes' theorem the area integral F_{dA→A} = ∫_A cosθ cosθ' / (π r²) dA becomes a sum over
+//! the polygon's edges (Lambert 1760; Hottel & Sarofim 1967; Baum, Rushmeier & Winget 1989,
+//! "Improving radiosity solutions through the use of analytically determined form-factors"):
+//!
+//! ```text
+//! F_{dA→A} = (1/2π) Σ_i γ_i · n · (R_i × R_{i+1}) / |R_i × R_{i+1}|
+//! ```
+//!
+//! where R_i runs from the point to corner i, n is the unit normal at the point and γ_i is the
+//! angle that edge i subtends, atan2(|R_i × R_{i+1}|, R_i · R_{i+1}). The sum is the signed
+//! projected solid angle of the polygon on the point's tangent plane, divided by π.
+//!
+//! The formula integrates cosθ over the whole polygon, *including* parts below the point's
+//! horizon, where cosθ < 0 and a real surface sends no light. So the polygon is first clipped
+//! to the half-space n · (y − x) ≥ 0 (one Sutherland–Hodgman step, done on the fly without
+//! storing the clipped polygon). A point on the polygon's plane or behind its front gets 0:
+//! polygons emit from their front only.
+//!
+//! Everything inside is `f64`: the terms of the sum cancel strongly for distant polygons.
+
+use glam::DVec3;
+use std::f64::consts::PI;
+
+use super::{column_with, pair_unoccluded, row_with, FormFactors, Geometry};
+
+/// Unoccluded form factors: Lambert's formula at an n × n grid of points on each receiver, no
+/// visibility. Exact (up to the receiver quadrature) in convex enclosures, where nothing can
+/// block anything; shadows are missing everywhere else.
+#[derive(Clone, Copy, Debug)]
+pub struct Analytic {
+    quadrature: u32,
+}
+
+impl Analytic {
+    /// With an n × n grid of quadrature points per receiver (`n` at least 1).
+    #[must_use]
+    pub fn new(quadrature: u32) -> Self {
+        Self {
+            quadrature: quadrature.max(1),
+        }
+    }
+}
+
+impl FormFactors for Analytic {
+    fn row(&self, g: &Geometry, element: usize, out: &mut [f32]) {
+        row_with(g, self.quadrature, element, out, |r, s| {
+            pair_unoccluded(g, r, element, s) as f32
+        });
+    }
+
+    fn column(&self, g: &Geometry, source: usize, out: &mut [f32]) {
+        column_with(g, self.quadrature, out, |r, e| {
+            pair_unoccluded(g, r, e, source) as f32
+        });
+    }
+}
+
+/// The unoccluded form factor from a differential area at `point` with unit normal `normal`
+/// to the planar `polygon` (corners counter-clockwise seen from its front, convex or not).
+///
+/// Zero when the point lies on the polygon's plane or behind it, or when the polygon lies
+/// wholly below the point's tangent plane; the part of a polygon below that plane is clipped
+/// away first. Fewer than three corners, or a degenerate polygon, give 0.
+#[must_use]
+pub fn point_to_polygon(point: DVec3, normal: DVec3, polygon: &[DVec3]) -> f64 {
+    if polygon.len() < 3 {
+        return 0.0;
+    }
+    // The polygon's front must face the point.
+    let area_vector = newell(polygon);
+    if area_vector.dot(point - polygon[0]) <= 0.0 {
+        return 0.0;
+    }
+    // Clip to the point's upper half-space while summing the contour terms.
+    let mut sum = 0.0;
+    let mut first: Option<DVec3> = None;
+    let mut previous = DVec3::ZERO;
+    let mut emit = |r: DVec3| {
+        match first {
+            None => first = Some(r),
+            Some(_) => sum += edge_term(normal, previous, r),
+        }
+        previous = r;
+    };
+    let rel = |p: DVec3| p - point;
+    let mut a = rel(polygon[polygon.len() - 1]);
+    let mut da = normal.dot(a);
+    for &corner in polygon {
+        let b = rel(corner);
+        let db = normal.dot(b);
+        if (da >= 0.0) != (db >= 0.0) {
+            // The edge crosses the tangent plane: emit the crossing point.
+            let t = da / (da - db);
+            let mut c = a + (b - a) * t;
+            // Put the crossing exactly on the plane (rounding may leave it a hair below).
+            c -= normal * normal.dot(c);
+            emit(c);
+        }
+        if db >= 0.0 {
+            emit(b);
+        }
+        a = b;
+        da = db;
+    }
+    if let Some(f) = first {
+        sum += edge_term(normal, previous, f);
+    }
+    // Counter-clockwise seen from the front facing the point makes the sum negative.
+    (-sum / (2.0 * PI)).max(0.0)
+}
+
+/// γ · n · (a × b)/|a × b| for one edge a → b (vectors from the point); 0 for a degenerate edge.
+fn edge_term(normal: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let cross = a.cross(b);
+    let length = cross.length();
+    if length == 0.0 {
+        return 0.0;
+    }
+    let gamma = length.atan2(a.dot(b));
+    gamma * normal.dot(cross) / length
+}
+
+/// Vector area of a polygon (Newell's method): normal direction times area.
+fn newell(polygon: &[DVec3]) -> DVec3 {
+    let mut sum = DVec3::ZERO;
+    let mut a = polygon[polygon.len() - 1];
+    for &b in polygon {
+        sum += a.cross(b);
+        a = b;
+    }
+    0.5 * sum
+}
+
+/// Closed-form form factor between two coaxial parallel rectangles `a × b`, `distance` apart
+/// (Howell's catalogue C-11). Two unit squares one apart: 0.1998249.
+#[must_use]
+pub fn parallel_rectangles(a: f64, b: f64, distance: f64) -> f64 {
+    let (x, y) = (a / distance, b / distance);
+    let (x1, y1) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
+    let log = ((1.0 + x * x) * (1.0 + y * y) / (1.0 + x * x + y * y))
+        .sqrt()
+        .ln();
+    2.0 / (PI * x * y)
+        * (log + x * y1 * (x / y1).atan() + y * x1 * (y / x1).atan() - x * x.atan() - y * y.atan())
+}
+
+/// Closed-form form factor from a rectangle `width × edge` to a perpendicular rectangle
+/// `height × edge` that shares its edge of length `edge` (Howell's catalogue C-14). Two unit
+/// squares: 0.2000438.
+#[must_use]
+pub fn perpendicular_rectangles(width: f64, height: f64, edge: f64) -> f64 {
+    let (h, w) = (height / edge, width / edge);
+    let (h2, w2) = (h * h, w * w);
+    let hw = (h2 + w2).sqrt();
+    let a = (1.0 + w2) * (1.0 + h2) / (1.0 + w2 + h2);
+    let b = (w2 * (1.0 + w2 + h2) / ((1.0 + w2) * (w2 + h2))).powf(w2);
+    let c = (h2 * (1.0 + h2 + w2) / ((1.0 + h2) * (h2 + w2))).powf(h2);
+    (w * (1.0 / w).atan() + h * (1.0 / h).atan() - hw * (1.0 / hw).atan() + 0.25 * (a * b * c).ln())
+        / (PI * w)
+}
+
+/// Closed-form form factor from a differential area to a parallel `a × b` rectangle whose
+/// corner lies on the area's normal at `distance` (Howell's catalogue B-3). Four of these give
+/// the centre of a face of the unit cube to the opposite face: 4 · F(½, ½, 1) = 0.2394565.
+#[must_use]
+pub fn point_to_parallel_rectangle_corner(a: f64, b: f64, distance: f64) -> f64 {
+    let (x, y) = (a / distance, b / distance);
+    let (x1, y1) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
+    (x / x1 * (y / x1).atan() + y / y1 * (x / y1).atan()) / (2.0 * PI)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The unit square at height `z`, facing down (counter-clockwise seen from below).
+    fn square_facing_down(z: f64) -> Vec<DVec3> {
+        vec![
+            DVec3::new(-0.5, -0.5, z),
+            DVec3::new(-0.5, 0.5, z),
+            DVec3::new(0.5, 0.5, z),
+            DVec3::new(0.5, -0.5, z),
+        ]
+    }
+
+    #[test]
+    fn closed_forms_match_catalogue_values() {
+        // Values printed in Howell's catalogue to 7 digits.
+        assert!((parallel_rectangles(1.0, 1.0, 1.0) - 0.199_824_9).abs() < 1e-7);
+        assert!((perpendicular_rectangles(1.0, 1.0, 1.0) - 0.200_043_8).abs() < 1e-7);
+        assert!(
+            (4.0 * point_to_parallel_rectangle_corner(0.5, 0.5, 1.0) - 0.239_456_5).abs() < 1e-7
+        );
+    }
+
+    #[test]
+    fn lambert_matches_closed_form_at_face_centre() {
+        let f = point_to_polygon(DVec3::ZERO, DVec3::Z, &square_facing_down(1.0));
+        assert!((f - 0.239_456_5).abs() < 1e-6, "{f}");
+    }
+
+    #[test]
+    fn back_side_and_coplanar_points_see_nothing() {
+        let mut up = square_facing_down(1.0);
+        up.reverse();
+        assert_eq!(point_to_polygon(DVec3::ZERO, DVec3::Z, &up), 0.0);
+        let f = point_to_polygon(
+            DVec3::new(3.0, 0.0, 1.0),
+            DVec3::NEG_X,
+            &square_facing_down(1.0),
+        );
+        assert_eq!(f, 0.0);
+        // Wholly below the horizon.
+        assert_eq!(
+            point_to_polygon(DVec3::ZERO, -DVec3::Z, &square_facing_down(1.0)),
+            0.0
+        );
+    }
+}

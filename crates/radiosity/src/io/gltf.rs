@@ -1,0 +1,318 @@
+//! Binary glTF 2.0 (`.glb`) export of the lit mesh (Khronos glTF 2.0 specification, §4.4
+//! "GLB File Format Specification").
+//!
+//! A `.glb` is a 12-byte header (`glTF`, version 2, total length) and two chunks, each a length,
+//! a type and a payload padded to 4 bytes: the JSON scene description (padded with spaces) and
+//! the binary buffer (padded with zeros).
+//!
+//! The lit mesh becomes one node and one mesh per scene object (named after it, objects without
+//! triangles left out), all sharing three vertex accessors:
+//!
+//! - `POSITION`: float VEC3, scene units, with its bounds as the specification requires;
+//! - `COLOR_0`: float VEC3, the vertex radiance L = B/π scaled by the automatic exposure
+//!   ([`auto_exposure`](crate::render::tonemap::auto_exposure), Reinhard et al. 2002) and
+//!   clamped to [0, 1]. glTF colours are linear; viewers apply the sRGB encoding themselves;
+//! - `_RADIOSITY`: float VEC3, radiosity B in W·m⁻² (linear, unscaled) — an application-specific
+//!   attribute (leading underscore), ignored by viewers, for tools that want the physics.
+//!
+//! The single material is unlit (`KHR_materials_unlit`), white and one-sided, so a viewer shows
+//! `COLOR_0` as it is: the light is already in the colours. Two-sided surfaces carry reversed
+//! twin triangles in the lit mesh, so their backs show too.
+
+use std::f64::consts::PI;
+use std::io;
+use std::path::Path;
+
+use glam::Vec3;
+use serde_json::{json, Value};
+
+use super::atomic::write_atomic;
+use crate::mesh::LitMesh;
+use crate::render::tonemap::{auto_exposure, exposure_scale};
+use crate::render::Image;
+
+/// glTF `componentType` of `f32`.
+const FLOAT: u32 = 5126;
+/// glTF `componentType` of `u32`.
+const UNSIGNED_INT: u32 = 5125;
+/// glTF buffer-view target of vertex attributes.
+const ARRAY_BUFFER: u32 = 34962;
+/// glTF buffer-view target of indices.
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+
+/// Writes `lit` as a binary glTF file at `path` (atomically). `object_names[i]` names the
+/// triangles whose object index is `i`; triangles of unnamed objects are grouped as `object i`.
+///
+/// # Errors
+/// I/O errors, and `InvalidInput` when a triangle refers to a missing vertex or the file would
+/// exceed the 4 GiB that GLB lengths can describe.
+pub fn write_glb(path: &Path, lit: &LitMesh, object_names: &[String]) -> io::Result<()> {
+    let bytes = encode(lit, object_names)?;
+    write_atomic(path, |w| w.write_all(&bytes))
+}
+
+/// The whole `.glb` file in memory.
+fn encode(lit: &LitMesh, object_names: &[String]) -> io::Result<Vec<u8>> {
+    let invalid = |m: &str| io::Error::new(io::ErrorKind::InvalidInput, m.to_string());
+    let n = lit.positions.len();
+    if lit.triangles.iter().flatten().any(|&v| v as usize >= n) {
+        return Err(invalid("triangle refers to a missing vertex"));
+    }
+
+    // Triangles grouped by object, in object order, keeping mesh order within each.
+    let groups = group_by_object(lit);
+
+    let mut bin = Vec::new();
+    let mut views = Vec::new();
+    let mut accessors = Vec::new();
+    let mut push_view = |bin: &mut Vec<u8>, data: &[u8], target: u32| -> usize {
+        views.push(json!({
+            "buffer": 0, "byteOffset": bin.len(), "byteLength": data.len(), "target": target
+        }));
+        bin.extend_from_slice(data);
+        views.len() - 1
+    };
+
+    let mut meshes = Vec::new();
+    let mut nodes = Vec::new();
+    if n > 0 && !lit.triangles.is_empty() {
+        let radiance = Image {
+            width: n as u32,
+            height: 1,
+            pixels: (0..n)
+                .map(|i| lit.radiosity.get(i).copied().unwrap_or_default() / PI)
+                .collect(),
+        };
+        let scale = exposure_scale(auto_exposure(&radiance));
+        let radiosity = |i: usize| lit.radiosity.get(i).copied().unwrap_or_default();
+        let colours: Vec<Vec3> = radiance
+            .pixels
+            .iter()
+            .map(|&l| {
+                (l * scale)
+                    .clamp(glam::DVec3::ZERO, glam::DVec3::ONE)
+                    .as_vec3()
+            })
+            .collect();
+        let b: Vec<Vec3> = (0..n).map(|i| radiosity(i).as_vec3()).collect();
+        let (lo, hi) = lit.positions.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        for (name, data, bounds) in [
+            ("POSITION", &lit.positions, Some((lo, hi))),
+            ("COLOR_0", &colours, None),
+            ("_RADIOSITY", &b, None),
+        ] {
+            let view = push_view(&mut bin, &vec3_bytes(data), ARRAY_BUFFER);
+            let mut accessor = json!({
+                "bufferView": view, "componentType": FLOAT, "count": n, "type": "VEC3",
+                "name": name
+            });
+            if let Some((lo, hi)) = bounds {
+                accessor["min"] = json!(lo.to_array());
+                accessor["max"] = json!(hi.to_array());
+            }
+            accessors.push(accessor);
+        }
+        for (object, triangles) in &groups {
+            let indices: Vec<u8> = triangles
+                .iter()
+                .flat_map(|&t| lit.triangles[t])
+                .flat_map(u32::to_le_bytes)
+                .collect();
+            let view = push_view(&mut bin, &indices, ELEMENT_ARRAY_BUFFER);
+            accessors.push(json!({
+                "bufferView": view, "componentType": UNSIGNED_INT,
+                "count": triangles.len() * 3, "type": "SCALAR"
+            }));
+            let name = object_names
+                .get(*object as usize)
+                .cloned()
+                .unwrap_or_else(|| format!("object {object}"));
+            meshes.push(json!({
+                "name": name,
+                "primitives": [{
+                    "attributes": { "POSITION": 0, "COLOR_0": 1, "_RADIOSITY": 2 },
+                    "indices": accessors.len() - 1,
+                    "material": 0,
+                    "mode": 4
+                }]
+            }));
+            nodes.push(json!({ "name": name, "mesh": meshes.len() - 1 }));
+        }
+    }
+
+    let mut doc = json!({
+        "asset": { "version": "2.0", "generator": "radiosity" },
+        "scene": 0,
+        "scenes": [{ "nodes": (0..nodes.len()).collect::<Vec<_>>() }],
+        "nodes": nodes,
+        "extensionsUsed": ["KHR_materials_unlit"],
+        "materials": [{
+            "name": "radiosity",
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [1.0, 1.0, 1.0, 1.0],
+                "metallicFactor": 0.0,
+                "roughnessFactor": 1.0
+            },
+            "extensions": { "KHR_materials_unlit": {} }
+        }],
+    });
+    if !meshes.is_empty() {
+        doc["meshes"] = Value::Array(meshes);
+        doc["accessors"] = Value::Array(accessors);
+        doc["bufferViews"] = Value::Array(views);
+        doc["buffers"] = json!([{ "byteLength": bin.len() }]);
+    }
+
+    let mut json_chunk = serde_json::to_vec(&doc).map_err(io::Error::other)?;
+    pad(&mut json_chunk, b' ');
+    pad(&mut bin, 0);
+    let mut total = 12 + 8 + json_chunk.len();
+    if !bin.is_empty() {
+        total += 8 + bin.len();
+    }
+    let total = u32::try_from(total).map_err(|_| invalid("mesh too large for a .glb file"))?;
+    let mut out = Vec::with_capacity(total as usize);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&total.to_le_bytes());
+    for (kind, data) in [(b"JSON", &json_chunk), (b"BIN\0", &bin)] {
+        if data.is_empty() {
+            continue;
+        }
+        out.extend_from_slice(&(data.len() as u32).to_le_bytes());
+        out.extend_from_slice(kind);
+        out.extend_from_slice(data);
+    }
+    Ok(out)
+}
+
+/// Triangle indices per object index, objects in increasing order.
+fn group_by_object(lit: &LitMesh) -> Vec<(u32, Vec<usize>)> {
+    let mut groups: std::collections::BTreeMap<u32, Vec<usize>> = Default::default();
+    for t in 0..lit.triangles.len() {
+        let object = lit.triangle_object.get(t).copied().unwrap_or(u32::MAX);
+        groups.entry(object).or_default().push(t);
+    }
+    groups.into_iter().collect()
+}
+
+/// Little-endian bytes of a list of vectors.
+fn vec3_bytes(data: &[Vec3]) -> Vec<u8> {
+    data.iter()
+        .flat_map(|v| v.to_array())
+        .flat_map(f32::to_le_bytes)
+        .collect()
+}
+
+/// Pads `data` with `byte` to a multiple of 4 bytes.
+fn pad(data: &mut Vec<u8>, byte: u8) {
+    while !data.len().is_multiple_of(4) {
+        data.push(byte);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Rgb;
+
+    /// A unit square in two triangles of objects 1 and 0; radiosity π at vertex 0 only.
+    fn square() -> LitMesh {
+        LitMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 2.0, 0.0), Vec3::Y],
+            radiosity: vec![Rgb::splat(PI), Rgb::ZERO, Rgb::ZERO, Rgb::new(0.0, PI, 0.0)],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+            triangle_patch: vec![0, 0],
+            has_back_twin: vec![false, false],
+            triangle_object: vec![1, 0],
+        }
+    }
+
+    fn u32_at(b: &[u8], o: usize) -> u32 {
+        u32::from_le_bytes(b[o..o + 4].try_into().expect("4 bytes"))
+    }
+
+    /// Splits a GLB into its JSON document and binary chunk, checking the framing.
+    fn parse(glb: &[u8]) -> (Value, Vec<u8>) {
+        assert_eq!(&glb[..4], b"glTF");
+        assert_eq!(u32_at(glb, 4), 2);
+        assert_eq!(u32_at(glb, 8) as usize, glb.len());
+        let json_len = u32_at(glb, 12) as usize;
+        assert_eq!(&glb[16..20], b"JSON");
+        assert_eq!(json_len % 4, 0);
+        let doc: Value = serde_json::from_slice(&glb[20..20 + json_len]).expect("json");
+        let rest = &glb[20 + json_len..];
+        if rest.is_empty() {
+            return (doc, Vec::new());
+        }
+        let bin_len = u32_at(rest, 0) as usize;
+        assert_eq!(&rest[4..8], b"BIN\0");
+        assert_eq!(bin_len % 4, 0);
+        assert_eq!(rest.len(), 8 + bin_len);
+        (doc, rest[8..].to_vec())
+    }
+
+    #[test]
+    fn framing_accessors_and_object_meshes_are_consistent() {
+        let names = vec!["floor".to_string(), "wall".to_string()];
+        let (doc, bin) = parse(&encode(&square(), &names).expect("encode"));
+        assert_eq!(
+            doc["buffers"][0]["byteLength"].as_u64(),
+            Some(bin.len() as u64)
+        );
+        // One mesh per object, in object order: floor holds triangle 1, wall triangle 0.
+        assert_eq!(doc["meshes"][0]["name"], "floor");
+        assert_eq!(doc["meshes"][1]["name"], "wall");
+        assert_eq!(doc["nodes"].as_array().map(Vec::len), Some(2));
+        let accessor = |i: u64| &doc["accessors"][i as usize];
+        let view_bytes = |a: &Value| -> Vec<u8> {
+            let v = &doc["bufferViews"][a["bufferView"].as_u64().expect("view") as usize];
+            let o = v["byteOffset"].as_u64().expect("offset") as usize;
+            let l = v["byteLength"].as_u64().expect("length") as usize;
+            bin[o..o + l].to_vec()
+        };
+        let floor = &doc["meshes"][0]["primitives"][0];
+        let indices = accessor(floor["indices"].as_u64().expect("indices"));
+        let idx: Vec<u32> = view_bytes(indices)
+            .chunks(4)
+            .map(|c| u32_at(c, 0))
+            .collect();
+        assert_eq!(idx, [0, 2, 3]);
+        // POSITION bounds are required and exact.
+        let pos = accessor(floor["attributes"]["POSITION"].as_u64().expect("position"));
+        assert_eq!(pos["min"], json!([0.0, 0.0, 0.0]));
+        assert_eq!(pos["max"], json!([1.0, 2.0, 0.0]));
+        assert_eq!(view_bytes(pos).len(), 4 * 12);
+        // COLOR_0 within [0, 1]; _RADIOSITY keeps B: π at vertex 0.
+        let colour = view_bytes(accessor(1));
+        let floats: Vec<f32> = colour
+            .chunks(4)
+            .map(|c| f32::from_le_bytes(c.try_into().expect("4")))
+            .collect();
+        assert!(floats.iter().all(|c| (0.0..=1.0).contains(c)), "{floats:?}");
+        assert!(floats[0] > 0.0 && floats[3] == 0.0);
+        let b = view_bytes(accessor(2));
+        assert_eq!(f32::from_le_bytes(b[..4].try_into().expect("4")), PI as f32);
+    }
+
+    #[test]
+    fn empty_mesh_is_a_valid_empty_scene() {
+        let (doc, bin) = parse(&encode(&LitMesh::default(), &[]).expect("encode"));
+        assert!(bin.is_empty());
+        assert_eq!(doc["nodes"], json!([]));
+        assert!(doc.get("accessors").is_none());
+    }
+
+    #[test]
+    fn dangling_index_is_an_error() {
+        let mut lit = square();
+        lit.triangles[0][1] = 7;
+        assert_eq!(
+            encode(&lit, &[]).map_err(|e| e.kind()).err(),
+            Some(io::ErrorKind::InvalidInput)
+        );
+    }
+}

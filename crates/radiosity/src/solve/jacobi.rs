@@ -1,0 +1,52 @@
+//! Jacobi iteration: every element gathers from the previous sweep's radiosities,
+//!
+//! ```text
+//! B_i^{k+1} = E_i + ρ_i Σ_s F_is B̄_s^k ,   B⁰ = E ,
+//! ```
+//!
+//! which is the Neumann series of (I − ρF)⁻¹E summed one bounce per sweep: it converges
+//! because ρF has spectral radius at most max ρ < 1 (rows of F sum to at most 1). Every element
+//! is independent within a sweep, so the sweep runs in parallel; each dot product is a
+//! sequential sum, so the result is the same at any thread count.
+
+use rayon::prelude::*;
+
+use super::matrix::Matrix;
+use super::{Run, Settings, System};
+use crate::progress::Progress;
+use crate::Rgb;
+
+/// Sweeps until the residual falls below the tolerance or the iteration limit is reached.
+pub(super) fn run(
+    system: &System,
+    matrix: &Matrix,
+    settings: &Settings,
+    progress: &dyn Progress,
+) -> Run {
+    let mut b = system.emission.clone();
+    let mut next = b.clone();
+    let mut means = vec![Rgb::ZERO; system.source_area.len()];
+    let (mut iterations, mut residual) = (0, 1.0);
+    while iterations < settings.max_iterations && residual >= settings.tolerance {
+        system.source_means(&b, &mut means);
+        next.par_iter_mut().enumerate().for_each(|(e, out)| {
+            *out = system.emission[e] + system.reflectance[e] * gather(matrix.row(e), &means);
+        });
+        residual = system.residual(&b, &next);
+        std::mem::swap(&mut b, &mut next);
+        iterations += 1;
+        progress.advance(1);
+    }
+    Run {
+        radiosity: b,
+        iterations,
+        residual,
+    }
+}
+
+/// Σ_s F_s B̄_s for one row.
+pub(super) fn gather(row: &[f32], means: &[Rgb]) -> Rgb {
+    row.iter()
+        .zip(means)
+        .fold(Rgb::ZERO, |acc, (&f, &m)| acc + m * f64::from(f))
+}

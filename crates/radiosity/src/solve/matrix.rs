@@ -1,0 +1,82 @@
+//! The stored form-factor matrix of the gathering solvers: one row of F_{e→s} per element (the
+//! receivers), one column per source, `f32`, row-major.
+//!
+//! Its size, elements × sources × 4 bytes, is checked against the limit *before* anything is
+//! allocated, and the allocation itself is fallible, so a scene too large for memory is a
+//! [`SolveError::MatrixTooLarge`], never an abort. Rows are filled in parallel in chunks; each
+//! row depends on its element only, so the matrix is the same at any thread count.
+
+use rayon::prelude::*;
+
+use super::SolveError;
+use crate::formfactor::{FormFactors, Geometry};
+use crate::progress::Progress;
+
+/// Rows per parallel task (and per progress report).
+const CHUNK_ROWS: usize = 16;
+
+/// Form factors from every element (row) to every source (column).
+#[derive(Clone, Debug)]
+pub struct Matrix {
+    sources: usize,
+    data: Vec<f32>,
+}
+
+impl Matrix {
+    /// Bytes that a matrix of `elements × sources` takes (saturating).
+    #[must_use]
+    pub fn bytes(elements: usize, sources: usize) -> u64 {
+        (elements as u64)
+            .saturating_mul(sources as u64)
+            .saturating_mul(std::mem::size_of::<f32>() as u64)
+    }
+
+    /// Computes every row of `g` with `ff`, reporting rows done to `progress` under the stage
+    /// "form factors".
+    ///
+    /// # Errors
+    /// [`SolveError::MatrixTooLarge`] when the matrix would take more than `limit` bytes or
+    /// cannot be allocated.
+    pub fn compute(
+        g: &Geometry,
+        ff: &dyn FormFactors,
+        limit: u64,
+        progress: &dyn Progress,
+    ) -> Result<Self, SolveError> {
+        let (rows, sources) = (g.mesh.element_count(), g.sources.len());
+        let bytes = Self::bytes(rows, sources);
+        let too_large = SolveError::MatrixTooLarge { bytes, limit };
+        if bytes > limit || usize::try_from(bytes).is_err() {
+            return Err(too_large);
+        }
+        let mut data = Vec::new();
+        data.try_reserve_exact(rows * sources)
+            .map_err(|_| too_large)?;
+        data.resize(rows * sources, 0.0);
+        progress.start("form factors", rows as u64);
+        if sources > 0 {
+            data.par_chunks_mut(CHUNK_ROWS * sources)
+                .enumerate()
+                .for_each(|(chunk, block)| {
+                    for (k, row) in block.chunks_mut(sources).enumerate() {
+                        ff.row(g, chunk * CHUNK_ROWS + k, row);
+                    }
+                    progress.advance((block.len() / sources) as u64);
+                });
+        }
+        progress.finish();
+        Ok(Self { sources, data })
+    }
+
+    /// Row `element`: F from that element to every source.
+    #[must_use]
+    pub fn row(&self, element: usize) -> &[f32] {
+        &self.data[element * self.sources..(element + 1) * self.sources]
+    }
+
+    /// Number of non-zero form factors.
+    #[must_use]
+    pub fn links(&self) -> u64 {
+        self.data.iter().filter(|&&f| f != 0.0).count() as u64
+    }
+}

@@ -1,0 +1,129 @@
+//! Progressive refinement (Cohen, Chen, Wallace & Greenberg 1988, "A progressive refinement
+//! approach to fast radiosity image generation"): instead of gathering, *shoot*.
+//!
+//! Every source s keeps an unshot radiosity ΔB_s, initially its (mean) emission. Each step
+//! picks the source with the largest unshot power A_s ‖ΔB_s‖₁, computes one column of form
+//! factors F_{e→s} on the fly, and gives every element
+//!
+//! ```text
+//! ΔB_e = ρ_e F_es ΔB_s ,   B_e += ΔB_e ,   ΔB_{s(e)} += A_e ΔB_e / A_{s(e)} ,
+//! ```
+//!
+//! (the paper's F_se A_s / A_e is F_es by reciprocity), then sets ΔB_s = 0. Memory is O(n): no
+//! matrix is stored. It stops when the unshot power falls below the tolerance times the emitted
+//! power, or after the iteration limit (one iteration = one shot).
+//!
+//! For display before convergence, the paper's *ambient term* spreads the unshot power evenly
+//! and lets it interreflect with the mean reflectance ρ̄ = Σ A ρ / Σ A:
+//!
+//! ```text
+//! ambient = Σ_s A_s ΔB_s / Σ_s A_s · 1 / (1 − ρ̄)     (per channel),
+//! ```
+//!
+//! and an element is shown as B_e + ρ_e · ambient. [`super::Solution::radiosity`] holds B
+//! without it; the ambient goes to [`super::Solution::ambient`].
+//!
+//! The column is computed in parallel (each value depends on its pair only); the updates are
+//! applied in element order and the largest source is the first of equals, so the result is the
+//! same at any thread count.
+
+use std::time::Instant;
+
+use super::{l1, Settings, System};
+use crate::formfactor::{FormFactors, Geometry};
+use crate::progress::Progress;
+use crate::Rgb;
+
+/// What a progressive solve returns.
+pub(super) struct Shots {
+    pub radiosity: Vec<Rgb>,
+    pub iterations: usize,
+    pub residual: f64,
+    pub links: u64,
+    pub ambient: Rgb,
+    pub form_factor_seconds: f64,
+}
+
+/// Shoots until the unshot power is below the tolerance or the iteration limit is reached.
+pub(super) fn run(
+    system: &System,
+    g: &Geometry,
+    ff: &dyn FormFactors,
+    settings: &Settings,
+    progress: &dyn Progress,
+) -> Shots {
+    let n = system.area.len();
+    let mut b = system.emission.clone();
+    let mut unshot = vec![Rgb::ZERO; system.source_area.len()];
+    system.source_means(&system.emission, &mut unshot);
+    let mut column = vec![0.0f32; n];
+    let (mut iterations, mut links, mut ff_seconds) = (0, 0u64, 0.0);
+    let unshot_power = |unshot: &[Rgb]| -> f64 {
+        unshot
+            .iter()
+            .zip(&system.source_area)
+            .map(|(u, a)| a * l1(*u))
+            .sum()
+    };
+    let mut residual = unshot_power(&unshot) / system.emitted;
+    while iterations < settings.max_iterations && residual >= settings.tolerance {
+        // The source with the most unshot power (the first of equals).
+        let mut s = 0;
+        let mut best = -1.0;
+        for (k, (u, a)) in unshot.iter().zip(&system.source_area).enumerate() {
+            let p = a * l1(*u);
+            if p > best {
+                (s, best) = (k, p);
+            }
+        }
+        let shoot = std::mem::replace(&mut unshot[s], Rgb::ZERO);
+        let start = Instant::now();
+        ff.column(g, s, &mut column);
+        ff_seconds += start.elapsed().as_secs_f64();
+        for (e, &f) in column.iter().enumerate() {
+            if f == 0.0 {
+                continue;
+            }
+            links += 1;
+            let delta = system.reflectance[e] * shoot * f64::from(f);
+            b[e] += delta;
+            let r = system.source_of[e] as usize;
+            if system.source_area[r] > 0.0 {
+                unshot[r] += delta * (system.area[e] / system.source_area[r]);
+            }
+        }
+        residual = unshot_power(&unshot) / system.emitted;
+        iterations += 1;
+        progress.advance(1);
+    }
+    Shots {
+        radiosity: b,
+        iterations,
+        residual,
+        links,
+        ambient: ambient(system, &unshot),
+        form_factor_seconds: ff_seconds,
+    }
+}
+
+/// The ambient term of Cohen et al. 1988 (see the module documentation).
+fn ambient(system: &System, unshot: &[Rgb]) -> Rgb {
+    let total: f64 = system.source_area.iter().sum();
+    if total <= 0.0 {
+        return Rgb::ZERO;
+    }
+    let mean_unshot: Rgb = unshot
+        .iter()
+        .zip(&system.source_area)
+        .map(|(u, a)| *u * *a)
+        .sum::<Rgb>()
+        / total;
+    let mean_rho: Rgb = system
+        .reflectance
+        .iter()
+        .zip(&system.area)
+        .map(|(r, a)| *r * *a)
+        .sum::<Rgb>()
+        / system.area.iter().sum::<f64>();
+    mean_unshot / (Rgb::ONE - mean_rho).max(Rgb::splat(1e-6))
+}
