@@ -1,1 +1,80 @@
-fn main() {}
+//! `radiosity` — the command-line program of the radiosity renderer.
+//!
+//! ```text
+//! radiosity render [SCENE] [-o out.png]... [--stats stats.json] [--export lit.ply]
+//! radiosity solve SCENE --export lit.ply --stats stats.json
+//! radiosity scenes
+//! radiosity bench
+//! ```
+//!
+//! Every failure prints one line `error: <cause>` on stderr (naming the file, line and key when
+//! the cause is in a scene) and exits with status 2; outputs are written atomically, so a failed
+//! run leaves no partial file.
+#![forbid(unsafe_code)]
+
+mod args;
+mod bars;
+mod bench;
+mod job;
+mod settings;
+
+use std::io::Write;
+use std::process::ExitCode;
+
+use clap::Parser;
+
+use args::{Cli, Command};
+
+/// Exit status of every failure: bad input, bad flags, unwritable outputs.
+const FAILURE: u8 = 2;
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if e.use_stderr() => return fail(&e.to_string()),
+        Err(e) => {
+            // --help and --version: clap prints them on stdout.
+            return match e.print() {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(_) => ExitCode::from(FAILURE),
+            };
+        }
+    };
+    let result = match cli.command {
+        Command::Render(args) => job::render(&args),
+        Command::Solve(args) => job::solve(&args),
+        Command::Scenes => list_scenes(),
+        Command::Bench(args) => bench::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => fail(&format!("{e:#}")),
+    }
+}
+
+/// Prints `error: <cause>` as one line on stderr and returns the failure status.
+///
+/// Multi-line causes are folded; clap's usage and help hints (from `Usage:` on) are left out.
+fn fail(message: &str) -> ExitCode {
+    let line = message
+        .lines()
+        .map(str::trim)
+        .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ");
+    let cause = line.strip_prefix("error: ").unwrap_or(&line);
+    let _ = writeln!(std::io::stderr(), "error: {cause}");
+    ExitCode::from(FAILURE)
+}
+
+/// `radiosity scenes`: one built-in scene per line, name and description.
+fn list_scenes() -> anyhow::Result<()> {
+    let names = radiosity::scene::builtin::names();
+    let width = names.iter().map(|(n, _)| n.len()).max().unwrap_or(0);
+    let mut out = std::io::stdout().lock();
+    for (name, description) in names {
+        writeln!(out, "{name:width$}  {description}")?;
+    }
+    Ok(())
+}

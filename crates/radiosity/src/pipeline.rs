@@ -170,12 +170,14 @@ impl Solved {
                 emitted: emitted.to_array(),
                 absorbed: self.absorbed.to_array(),
             },
-            objects: self.aggregate(|polygon| self.scene.polygons[polygon].object, |o| {
-                self.scene.objects[o].name.clone()
-            }),
-            materials: self.aggregate(|polygon| self.scene.polygons[polygon].material, |m| {
-                self.scene.materials[m].name.clone()
-            }),
+            objects: self.aggregate(
+                |polygon| self.scene.polygons[polygon].object,
+                |o| self.scene.objects[o].name.clone(),
+            ),
+            materials: self.aggregate(
+                |polygon| self.scene.polygons[polygon].material,
+                |m| self.scene.materials[m].name.clone(),
+            ),
         }
     }
 
@@ -204,7 +206,8 @@ impl Solved {
             let pw = power.entry(g).or_default();
             for range in elements {
                 for e in range {
-                    *pw += self.mesh.element(e as usize).face.area() * self.solution.radiosity[e as usize];
+                    *pw += self.mesh.element(e as usize).face.area()
+                        * self.solution.radiosity[e as usize];
                 }
             }
         }

@@ -9,7 +9,9 @@ use radiosity::stats::Timings;
 use radiosity::{Rgb, Scene};
 
 fn scene(name: &str) -> Scene {
-    builtin::load(name).expect("built-in exists").expect("built-in loads")
+    builtin::load(name)
+        .expect("built-in exists")
+        .expect("built-in loads")
 }
 
 fn settings(elements: usize) -> Settings {
@@ -28,9 +30,15 @@ fn furnace_absorbs_what_it_emits() {
     for c in 0..3 {
         let (emitted, absorbed) = (stats.energy.emitted[c], stats.energy.absorbed[c]);
         // Tolerance: the solver's residual (1e-4) and the row sums of the ray-cast form factors.
-        assert!((absorbed - emitted).abs() < 2e-3 * emitted, "{absorbed} vs {emitted}");
+        assert!(
+            (absorbed - emitted).abs() < 2e-3 * emitted,
+            "{absorbed} vs {emitted}"
+        );
         let leaving: f64 = stats.objects.iter().map(|o| o.area * o.radiosity[c]).sum();
-        assert!((leaving - emitted / 0.5).abs() < 2e-3 * leaving, "{leaving}");
+        assert!(
+            (leaving - emitted / 0.5).abs() < 2e-3 * leaving,
+            "{leaving}"
+        );
     }
 }
 
@@ -89,5 +97,8 @@ fn cornell_box_matches_golden_image() {
         total += d;
     }
     let average = total / image.pixels.len() as f64;
-    assert!(average < 0.02 * mean, "mean difference {average} vs mean {mean}");
+    assert!(
+        average < 0.02 * mean,
+        "mean difference {average} vs mean {mean}"
+    );
 }

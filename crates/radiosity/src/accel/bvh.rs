@@ -36,7 +36,7 @@ use super::ray::{intersect, Hit, Ray};
 /// Most triangles in one leaf (the leaf reference stores count − 1 in three bits).
 pub(super) const MAX_LEAF: usize = 8;
 /// Children per node.
-pub(super) const WIDTH: usize = 4;
+pub(super) const WIDTH: usize = 8;
 /// Entries of the traversal stack that always suffice: a step pushes at most `WIDTH − 1`, and
 /// there are at most [`MAX_DEPTH`] steps down.
 const DEEP_STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
@@ -590,6 +590,39 @@ mod tests {
         assert_eq!(bvh.validate(), Ok(()));
         bvh.nodes[0].bounds[1][0] -= 0.5;
         assert!(bvh.validate().is_err());
+    }
+
+    #[test]
+    fn deep_and_shallow_stacks_agree() {
+        // Triangles on a helix: a tree that needs a few stack entries but far fewer than 64.
+        let tris: Vec<[Vec3; 3]> = (0..2000)
+            .map(|i| {
+                let a = i as f32 * 0.05;
+                let o = Vec3::new(a.cos() * 3.0, i as f32 * 0.01, a.sin() * 3.0);
+                [
+                    o,
+                    o + Vec3::new(0.2, 0.0, 0.0),
+                    o + Vec3::new(0.0, 0.2, 0.1),
+                ]
+            })
+            .collect();
+        let bvh = Bvh::build(&tris);
+        assert!(bvh.stack_need > 0 && bvh.stack_need <= SHALLOW_STACK);
+        for i in 0..500 {
+            let a = i as f32 * 0.37;
+            let ray = Ray::new(
+                Vec3::new(0.0, i as f32 * 0.04, 0.0),
+                Vec3::new(a.cos(), (a * 3.0).sin() * 0.3, a.sin()),
+            );
+            assert_eq!(
+                bvh.traverse::<false, SHALLOW_STACK>(&ray, f32::INFINITY),
+                bvh.traverse::<false, DEEP_STACK>(&ray, f32::INFINITY)
+            );
+            assert_eq!(
+                bvh.traverse::<true, SHALLOW_STACK>(&ray, 2.0).is_some(),
+                bvh.traverse::<true, DEEP_STACK>(&ray, 2.0).is_some()
+            );
+        }
     }
 
     #[test]

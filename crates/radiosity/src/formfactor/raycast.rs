@@ -29,6 +29,9 @@ use super::{column_with, pair_unoccluded, row_with, FormFactors, Geometry, Recei
 use crate::accel::Ray;
 use crate::mesh::Face;
 
+/// Rays of the adaptive pilot (one per quadrant).
+const PILOT: u32 = 4;
+
 /// Shadow-ray offset relative to the scene's bounding-box diagonal.
 const OFFSET: f32 = 1e-4;
 
@@ -79,27 +82,53 @@ impl RayCast {
     }
 
     /// Fraction of the shadow rays from element `e` to source `s` that arrive.
+    ///
+    /// Adaptive: a pilot of [`PILOT`] rays, one per quadrant of both faces, decides alone when
+    /// it is unanimous (most pairs are wholly visible or wholly hidden); only a split pilot pays
+    /// for the full stratified set, which then includes the pilot.
     fn visibility(&self, g: &Geometry, e: usize, s: usize, lift: f32) -> f64 {
         let from: &Face = &g.mesh.element(e).face;
         let to: &Face = g.source_face(s);
         let (n_from, n_to) = (from.normal() * lift, to.normal() * lift);
         let pair = mix(mix(mix(self.seed) ^ e as u64) ^ s as u64);
+        let arrives = |(u, v): (f32, f32), (su, sv): (f32, f32)| {
+            let origin = from.point(u, v) + n_from;
+            let target = to.point(su, sv) + n_to;
+            !g.bvh.occluded(&Ray::new(origin, target - origin), 1.0)
+        };
+        let jitter = |bits: u64, i: u32| (((bits >> (16 * i)) & 0xFFFF) as f32 + 0.5) / 65536.0;
+        let mut pilot = 0u32;
+        if self.rays > PILOT {
+            for k in 0..PILOT {
+                let bits = mix(!pair ^ u64::from(k));
+                // Quadrant k on the receiver, the opposite quadrant on the source.
+                let quadrant = |q: u32, ju: f32, jv: f32| {
+                    (((q & 1) as f32 + ju) * 0.5, ((q >> 1) as f32 + jv) * 0.5)
+                };
+                let from_point = quadrant(k, jitter(bits, 0), jitter(bits, 1));
+                let to_point = quadrant(3 - k, jitter(bits, 2), jitter(bits, 3));
+                pilot += u32::from(arrives(from_point, to_point));
+            }
+            if pilot == 0 || pilot == PILOT {
+                return f64::from(pilot / PILOT);
+            }
+        }
         let offset = (pair % u64::from(self.rays)) as u32;
         let mut visible = 0u32;
         for k in 0..self.rays {
             let bits = mix(pair ^ u64::from(k));
-            let jitter = |i: u32| (((bits >> (16 * i)) & 0xFFFF) as f32 + 0.5) / 65536.0;
-            let (u, v) = self.cell(k, jitter(0), jitter(1));
+            let (u, v) = self.cell(k, jitter(bits, 0), jitter(bits, 1));
             let permuted = ((u64::from(self.step) * u64::from(k) + u64::from(offset))
                 % u64::from(self.rays)) as u32;
-            let (su, sv) = self.cell(permuted, jitter(2), jitter(3));
-            let origin = from.point(u, v) + n_from;
-            let target = to.point(su, sv) + n_to;
-            if !g.bvh.occluded(&Ray::new(origin, target - origin), 1.0) {
-                visible += 1;
-            }
+            let target = self.cell(permuted, jitter(bits, 2), jitter(bits, 3));
+            visible += u32::from(arrives((u, v), target));
         }
-        f64::from(visible) / f64::from(self.rays)
+        let cast = if self.rays > PILOT {
+            self.rays + PILOT
+        } else {
+            self.rays
+        };
+        f64::from(visible + pilot) / f64::from(cast)
     }
 
     /// The point of cell `k` of the stratification grid at offset (ju, jv) within the cell.

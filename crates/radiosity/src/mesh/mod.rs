@@ -293,7 +293,7 @@ impl Mesh {
 
 /// Levels of uniform subdivision that bring a face of area `area` to at most `target`.
 fn level_for(area: f64, target: f64) -> u8 {
-    if !(target > 0.0) || area <= target {
+    if target.is_nan() || target <= 0.0 || area <= target {
         return 0;
     }
     let levels = ((area / target).ln() / 4f64.ln()).ceil();

@@ -1,0 +1,247 @@
+//! Command-line arguments (clap derive) and the parsers of their values.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// Global illumination by radiosity: solve a scene once, then render it from any camera or
+/// export the lit mesh.
+#[derive(Debug, Parser)]
+#[command(name = "radiosity", version, propagate_version = true)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Solve a scene and render it to images (default: the built-in Cornell box to cornell.png).
+    Render(RenderArgs),
+    /// Solve a scene without rendering an image (use --export and --stats).
+    Solve(SolveArgs),
+    /// List the built-in scenes.
+    Scenes,
+    /// Measure the ray throughput of the visibility hierarchy (BVH).
+    Bench(BenchArgs),
+}
+
+/// `radiosity render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file (.toml, .obj) or built-in scene name (see `radiosity scenes`).
+    #[arg(default_value = "cornell")]
+    pub scene: String,
+    /// Image to write (repeatable): .png is tone-mapped sRGB; .exr, .hdr, .pfm hold linear
+    /// radiance. Default: <scene name>.png in the current directory.
+    #[arg(short = 'o', long = "output", value_name = "PATH")]
+    pub outputs: Vec<PathBuf>,
+    /// Image width in pixels (default: the scene's [render] width).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65_536))]
+    pub width: Option<u32>,
+    /// Image height in pixels (default: the scene's [render] height).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65_536))]
+    pub height: Option<u32>,
+    /// Camera to render from, by name (default: the scene's first camera).
+    #[arg(long, value_name = "NAME")]
+    pub camera: Option<String>,
+    /// Antialiasing samples per pixel, taken as an s×s grid (1, 4, 9, ... 64).
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub samples: u32,
+    /// Exposure of .png outputs in stops (radiance × 2^STOPS); default: automatic (the
+    /// log-average luminance maps to middle grey).
+    #[arg(long, value_name = "STOPS", allow_negative_numbers = true, value_parser = finite_f32)]
+    pub exposure: Option<f32>,
+    /// Rendering mode.
+    #[arg(long, value_enum, default_value_t = Mode::Radiosity)]
+    pub mode: Mode,
+    /// Options shared with `solve`.
+    #[command(flatten)]
+    pub common: CommonArgs,
+}
+
+/// `radiosity solve`.
+#[derive(Debug, Args)]
+pub struct SolveArgs {
+    /// Scene file (.toml, .obj) or built-in scene name (see `radiosity scenes`).
+    pub scene: String,
+    /// Options shared with `render`.
+    #[command(flatten)]
+    pub common: CommonArgs,
+}
+
+/// Options of every job that solves a scene.
+#[derive(Debug, Args)]
+pub struct CommonArgs {
+    /// Write statistics (counts, timings, energy, per-object radiosity) as JSON.
+    #[arg(long, value_name = "PATH")]
+    pub stats: Option<PathBuf>,
+    /// Export the lit mesh: .ply (float radiosity and 8-bit colours per vertex) or .glb (glTF
+    /// with COLOR_0).
+    #[arg(long, value_name = "PATH")]
+    pub export: Option<PathBuf>,
+    /// Solver of the radiosity equation.
+    #[arg(long, value_enum, default_value_t = Solver::Auto)]
+    pub solver: Solver,
+    /// Form-factor method (default: the engine's choice).
+    #[arg(long, value_enum, value_name = "METHOD")]
+    pub form_factors: Option<FormFactors>,
+    /// Subdivide into about N elements in total.
+    #[arg(long, value_name = "N", conflicts_with = "max_element_area",
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub elements: Option<u64>,
+    /// Subdivide until no element is larger than A (scene units²).
+    #[arg(long, value_name = "A", value_parser = positive_f64)]
+    pub max_element_area: Option<f64>,
+    /// Stop iterating when the residual falls below this (relative).
+    #[arg(long, value_parser = positive_f64)]
+    pub tolerance: Option<f64>,
+    /// Stop after this many iterations.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_iterations: Option<u64>,
+    /// Memory budget of the form-factor matrix and of the image, in bytes (suffixes K, M, G, T:
+    /// powers of 1024; e.g. 512M, 2G). Default: 1 GiB for the matrix, 8 GiB for the image.
+    #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
+    /// Seed of the random sampling (ray-cast form factors).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Worker threads (default: one per core). Results do not depend on it.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=4096))]
+    pub threads: Option<u64>,
+    /// No progress bars, warnings or messages on stderr (errors are still printed).
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// `radiosity bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Triangles in the benchmark scene (a field of tessellated spheres).
+    #[arg(long, default_value_t = 1_000_000, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
+    pub triangles: u64,
+    /// Incoherent rays per measurement.
+    #[arg(long, default_value_t = 1_000_000, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
+    pub rays: u64,
+    /// Thread counts to measure, comma-separated (default: 1 and every core).
+    #[arg(long, value_name = "N,...", value_delimiter = ',',
+          value_parser = clap::value_parser!(u64).range(1..=4096))]
+    pub threads: Vec<u64>,
+    /// Seed of the ray generator.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Also write the reports as JSON.
+    #[arg(long, value_name = "PATH")]
+    pub json: Option<PathBuf>,
+    /// Also write the triangles and rays (for tracing them with another tracer).
+    #[arg(long, value_name = "PATH")]
+    pub workload: Option<PathBuf>,
+}
+
+/// `--mode`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Mode {
+    /// Diffuse global illumination from the radiosity solution.
+    Radiosity,
+    /// Direct light plus a constant ambient term, for comparison.
+    Local,
+    /// Whitted ray tracing over the radiosity solution.
+    Raytrace,
+}
+
+/// `--solver`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Solver {
+    /// Jacobi iteration (gathering).
+    Jacobi,
+    /// Gauss-Seidel iteration (gathering).
+    GaussSeidel,
+    /// Progressive refinement (shooting).
+    Progressive,
+    /// Chosen from the scene's size and the memory budget.
+    Auto,
+}
+
+/// `--form-factors`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FormFactors {
+    /// Lambert's closed form, without visibility (convex enclosures only).
+    Analytic,
+    /// Lambert's closed form times a ray-cast visibility fraction.
+    Raycast,
+}
+
+/// A finite floating-point number.
+fn finite_f32(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(format!("`{s}` is not a finite number")),
+    }
+}
+
+/// A finite number greater than zero.
+fn positive_f64(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err(format!("`{s}` is not a positive number")),
+    }
+}
+
+/// A byte count: a number with an optional suffix K, M, G or T (powers of 1024, optionally
+/// followed by `B` or `iB`, any case), e.g. `2G`, `512M`, `1.5GiB`, `1000000`.
+pub fn parse_bytes(s: &str) -> Result<u64, String> {
+    let bad = || format!("`{s}` is not a byte count (e.g. 512M, 2G)");
+    let t = s.trim().to_ascii_uppercase();
+    let t = t
+        .strip_suffix("IB")
+        .or_else(|| t.strip_suffix('B'))
+        .unwrap_or(&t);
+    let (number, shift) = match t.chars().last() {
+        Some('K') => (&t[..t.len() - 1], 10),
+        Some('M') => (&t[..t.len() - 1], 20),
+        Some('G') => (&t[..t.len() - 1], 30),
+        Some('T') => (&t[..t.len() - 1], 40),
+        _ => (t, 0),
+    };
+    let value: f64 = number.trim().parse().map_err(|_| bad())?;
+    let bytes = value * (1u64 << shift) as f64;
+    if !(bytes.is_finite() && bytes >= 1.0 && bytes < u64::MAX as f64) {
+        return Err(bad());
+    }
+    Ok(bytes.round() as u64)
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    use super::*;
+
+    #[test]
+    fn byte_counts_with_binary_suffixes() {
+        assert_eq!(parse_bytes("2G"), Ok(2 << 30));
+        assert_eq!(parse_bytes("512M"), Ok(512 << 20));
+        assert_eq!(parse_bytes("512mb"), Ok(512 << 20));
+        assert_eq!(parse_bytes("1.5GiB"), Ok(3 << 29));
+        assert_eq!(parse_bytes("4k"), Ok(4096));
+        assert_eq!(parse_bytes("1000000"), Ok(1_000_000));
+        for bad in ["", "G", "-1G", "0", "1X", "nanG", "1e30T"] {
+            assert!(parse_bytes(bad).is_err(), "{bad:?} accepted");
+        }
+    }
+
+    #[test]
+    fn numbers_must_be_finite_and_positive() {
+        assert_eq!(positive_f64("0.25"), Ok(0.25));
+        assert!(positive_f64("0").is_err());
+        assert!(positive_f64("inf").is_err());
+        assert_eq!(finite_f32("-2"), Ok(-2.0));
+        assert!(finite_f32("NaN").is_err());
+    }
+
+    #[test]
+    fn clap_definition_is_consistent() {
+        Cli::command().debug_assert();
+    }
+}

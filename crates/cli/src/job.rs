@@ -1,0 +1,257 @@
+//! `radiosity render` and `radiosity solve`: check the outputs, load, solve, render, write.
+//!
+//! Everything that can be checked before the (possibly long) solve is checked first: output
+//! extensions, output directories, the mode, the camera name. Files are written atomically
+//! (images by [`write_image`], the rest through [`write_atomic`]), so a failure leaves no
+//! partial file.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use radiosity::io::atomic::write_atomic;
+use radiosity::io::gltf::write_glb;
+use radiosity::io::image_file::write_image;
+use radiosity::io::ply::write_ply;
+use radiosity::pipeline::{self, Solved};
+use radiosity::render::{self, tonemap, RasterSettings};
+use radiosity::scene::Camera;
+use radiosity::stats::Timings;
+use radiosity::Scene;
+
+use crate::args::{CommonArgs, Mode, RenderArgs, SolveArgs};
+use crate::bars::Bars;
+use crate::settings;
+
+/// Image extensions `--output` accepts.
+const IMAGE_EXTENSIONS: [&str; 4] = ["png", "exr", "hdr", "pfm"];
+/// Bytes per pixel of a rendered radiance image (three f64).
+const IMAGE_BYTES_PER_PIXEL: u64 = 24;
+
+/// `radiosity render`.
+pub fn render(args: &RenderArgs) -> Result<()> {
+    match args.mode {
+        Mode::Radiosity => {}
+        Mode::Local => bail!("--mode local is not available yet"),
+        Mode::Raytrace => bail!("--mode raytrace is not available yet"),
+    }
+    for path in &args.outputs {
+        check_output(path, "image", &IMAGE_EXTENSIONS)?;
+    }
+    check_common_outputs(&args.common)?;
+    in_pool(args.common.threads, || render_job(args))
+}
+
+/// `radiosity solve`.
+pub fn solve(args: &SolveArgs) -> Result<()> {
+    check_common_outputs(&args.common)?;
+    in_pool(args.common.threads, || {
+        let start = Instant::now();
+        let (scene, load) = load(&args.scene, &args.common)?;
+        let solved = run_solve(scene, &args.common)?;
+        finish(&solved, &args.common, start, load, 0.0)
+    })
+}
+
+/// Runs `job` in a rayon pool of `threads` workers, or in the global pool.
+fn in_pool<T: Send>(threads: Option<u64>, job: impl FnOnce() -> Result<T> + Send) -> Result<T> {
+    match threads {
+        None => job(),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n as usize)
+            .build()
+            .with_context(|| format!("--threads {n}: cannot start the threads"))?
+            .install(job),
+    }
+}
+
+fn render_job(args: &RenderArgs) -> Result<()> {
+    let start = Instant::now();
+    let common = &args.common;
+    let (scene, load) = load(&args.scene, common)?;
+    let camera = pick_camera(&scene, args.camera.as_deref())?.clone();
+    let raster = RasterSettings {
+        width: args.width.unwrap_or(scene.render.width),
+        height: args.height.unwrap_or(scene.render.height),
+        samples_per_pixel: args.samples,
+    };
+    let pixels = u64::from(raster.width) * u64::from(raster.height);
+    let budget = settings::memory_budget(common);
+    if pixels * IMAGE_BYTES_PER_PIXEL > budget {
+        bail!(
+            "a {}×{} image needs {} MiB, more than the memory budget of {} MiB (--max-memory)",
+            raster.width,
+            raster.height,
+            (pixels * IMAGE_BYTES_PER_PIXEL) >> 20,
+            budget >> 20
+        );
+    }
+    let outputs = if args.outputs.is_empty() {
+        let name = PathBuf::from(format!("{}.png", scene.name));
+        check_output(&name, "image", &IMAGE_EXTENSIONS)?;
+        vec![name]
+    } else {
+        args.outputs.clone()
+    };
+    let solved = run_solve(scene, common)?;
+
+    let render_start = Instant::now();
+    let image = render::render(&solved.lit, &camera, &raster);
+    let exposure = args
+        .exposure
+        .unwrap_or_else(|| tonemap::auto_exposure(&image));
+    for path in &outputs {
+        write_image(path, &image, exposure)?;
+        say(common, &format!("wrote {}", path.display()));
+    }
+    let render_seconds = render_start.elapsed().as_secs_f64();
+    finish(&solved, common, start, load, render_seconds)
+}
+
+/// Loads the scene and prints its warnings; returns it with the seconds it took.
+fn load(arg: &str, common: &CommonArgs) -> Result<(Scene, f64)> {
+    let start = Instant::now();
+    let scene = Scene::resolve(arg)?;
+    for warning in &scene.warnings {
+        say(common, &format!("warning: {warning}"));
+    }
+    Ok((scene, start.elapsed().as_secs_f64()))
+}
+
+/// The camera named `name`, or the scene's first.
+fn pick_camera<'a>(scene: &'a Scene, name: Option<&str>) -> Result<&'a Camera> {
+    let Some(name) = name else {
+        return scene
+            .cameras
+            .first()
+            .with_context(|| format!("scene `{}` has no camera", scene.name));
+    };
+    scene.camera(name).with_context(|| {
+        let known: Vec<&str> = scene.cameras.iter().map(|c| c.name.as_str()).collect();
+        format!(
+            "--camera: unknown camera `{name}` in scene `{}` (defined: {})",
+            scene.name,
+            known.join(", ")
+        )
+    })
+}
+
+/// Meshes, computes form factors and solves, with progress bars when stderr is a terminal.
+fn run_solve(scene: Scene, common: &CommonArgs) -> Result<Solved> {
+    let settings = settings::pipeline_settings(common);
+    let bars = Bars::new(!common.quiet && std::io::stderr().is_terminal());
+    Ok(pipeline::solve(scene, &settings, &bars)?)
+}
+
+/// Writes the export and the stats of a finished job.
+fn finish(
+    solved: &Solved,
+    common: &CommonArgs,
+    start: Instant,
+    load_seconds: f64,
+    render_seconds: f64,
+) -> Result<()> {
+    if let Some(path) = &common.export {
+        let names: Vec<String> = solved
+            .scene
+            .objects
+            .iter()
+            .map(|o| o.name.clone())
+            .collect();
+        let written = if extension(path) == "glb" {
+            write_glb(path, &solved.lit, &names)
+        } else {
+            write_ply(path, &solved.lit, &names)
+        };
+        written.with_context(|| format!("{}: cannot write", path.display()))?;
+        say(common, &format!("wrote {}", path.display()));
+    }
+    let stats = solved.stats(&Timings {
+        load: load_seconds,
+        render: render_seconds,
+        total: start.elapsed().as_secs_f64(),
+        ..Timings::default()
+    });
+    if let Some(path) = &common.stats {
+        let mut json = serde_json::to_vec_pretty(&stats)?;
+        json.push(b'\n');
+        write_atomic(path, |w| w.write_all(&json))
+            .with_context(|| format!("{}: cannot write", path.display()))?;
+        say(common, &format!("wrote {}", path.display()));
+    }
+    say(
+        common,
+        &format!(
+            "{}: {} patches, {} elements, {} links; {} {} iterations, residual {:.2e}; {:.2} s",
+            solved.scene.name,
+            stats.patches,
+            stats.elements,
+            stats.links,
+            stats.solver.method,
+            stats.solver.iterations,
+            stats.solver.residual,
+            stats.timings.total
+        ),
+    );
+    Ok(())
+}
+
+/// Checks the `--stats` and `--export` paths.
+fn check_common_outputs(common: &CommonArgs) -> Result<()> {
+    if let Some(path) = &common.stats {
+        check_directory(path)?;
+    }
+    if let Some(path) = &common.export {
+        check_output(path, "export", &["ply", "glb"])?;
+    }
+    Ok(())
+}
+
+/// Checks that `path` has one of the `allowed` extensions and that its directory exists.
+fn check_output(path: &Path, what: &str, allowed: &[&str]) -> Result<()> {
+    let extension = extension(path);
+    if !allowed.contains(&extension.as_str()) {
+        let list: Vec<String> = allowed.iter().map(|e| format!(".{e}")).collect();
+        bail!(
+            "{}: unsupported {what} extension {:?} (expected {})",
+            path.display(),
+            extension,
+            list.join(", ")
+        );
+    }
+    check_directory(path)
+}
+
+/// Checks that the directory `path` would be written in exists, before any work is done.
+fn check_directory(path: &Path) -> Result<()> {
+    if path.file_name().is_none() || path.is_dir() {
+        bail!("{}: not a file path", path.display());
+    }
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        bail!(
+            "{}: cannot write: directory {} does not exist",
+            path.display(),
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
+/// The lower-case extension of `path` (empty if none).
+fn extension(path: &Path) -> String {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default()
+}
+
+/// A message on stderr unless `--quiet`.
+fn say(common: &CommonArgs, message: &str) {
+    if !common.quiet {
+        let _ = writeln!(std::io::stderr(), "{message}");
+    }
+}

@@ -1,0 +1,398 @@
+//! End-to-end tests of the `radiosity` binary: the public contract of DESIGN.md §5.
+
+use std::collections::BTreeSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs the binary with `args` in `dir`.
+fn run(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the binary runs")
+}
+
+/// A fresh empty directory for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("radiosity-cli-{name}-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).expect("create scratch dir");
+    dir
+}
+
+/// File names in `dir`, sorted.
+fn files(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = fs::read_dir(dir)
+        .expect("read dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// The keys of a JSON object, sorted.
+fn keys(v: &serde_json::Value) -> BTreeSet<String> {
+    v.as_object()
+        .unwrap_or_else(|| panic!("not an object: {v}"))
+        .keys()
+        .cloned()
+        .collect()
+}
+
+fn set(names: &[&str]) -> BTreeSet<String> {
+    names.iter().map(|s| s.to_string()).collect()
+}
+
+/// A small valid scene: a glowing grey box on a floor, one camera named `front`. `extra` is
+/// inserted as a line of the box object.
+fn scene_text(extra: &str) -> String {
+    format!(
+        r#"[[cameras]]
+name = "front"
+eye = [0.0, 0.5, 3.0]
+target = [0.0, 0.5, 0.0]
+
+[render]
+width = 32
+height = 32
+
+[materials.grey]
+reflectance = [0.5, 0.5, 0.5]
+emission = [1.0, 1.0, 1.0]
+
+[materials.white]
+reflectance = [0.8, 0.8, 0.8]
+
+[[objects]]
+name = "room"
+material = "grey"
+{extra}
+shape = "box"
+min = [-0.5, 0.0, -0.5]
+max = [0.5, 1.0, 0.5]
+
+[[objects]]
+name = "floor"
+material = "white"
+shape = "polygon"
+vertices = [[-2, 0, 2], [2, 0, 2], [2, 0, -2], [-2, 0, -2]]
+"#
+    )
+}
+
+/// The 1-based line of the first line of `scene_text("colour = ...")` holding `colour`.
+fn colour_line() -> usize {
+    1 + scene_text("colour = [1, 0, 0]")
+        .lines()
+        .position(|l| l.starts_with("colour"))
+        .expect("the line is there")
+}
+
+#[test]
+fn scenes_lists_the_builtins() {
+    let dir = scratch("scenes");
+    let out = run(&dir, &["scenes"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let names: Vec<&str> = text
+        .lines()
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    assert!(names.contains(&"cornell"), "{text}");
+    assert!(names.contains(&"furnace"), "{text}");
+    assert!(
+        text.lines().all(|l| l.split_whitespace().count() >= 2),
+        "descriptions: {text}"
+    );
+    fs::remove_dir_all(&dir).expect("cleanup");
+}
+
+#[test]
+fn render_writes_png_and_stats_with_the_contract_keys() {
+    let dir = scratch("render");
+    let args = [
+        "render",
+        "furnace",
+        "--width",
+        "64",
+        "--height",
+        "64",
+        "--elements",
+        "200",
+        "-o",
+        "f.png",
+        "--stats",
+        "s.json",
+        "--quiet",
+    ];
+    let out = run(&dir, &args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.stderr.is_empty(), "--quiet: {}", stderr(&out));
+    assert_eq!(files(&dir), ["f.png", "s.json"]);
+
+    let png = fs::read(dir.join("f.png")).expect("png");
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    // IHDR: width and height, big-endian, at bytes 16..24.
+    assert_eq!(&png[16..24], &[0, 0, 0, 64, 0, 0, 0, 64]);
+
+    let stats: serde_json::Value =
+        serde_json::from_slice(&fs::read(dir.join("s.json")).expect("stats")).expect("json");
+    let top = [
+        "patches",
+        "elements",
+        "links",
+        "solver",
+        "timings",
+        "energy",
+        "objects",
+        "materials",
+    ];
+    assert_eq!(keys(&stats), set(&top));
+    assert_eq!(
+        keys(&stats["solver"]),
+        set(&["method", "iterations", "residual"])
+    );
+    let timings = ["load", "mesh", "form_factors", "solve", "render", "total"];
+    assert_eq!(keys(&stats["timings"]), set(&timings));
+    assert_eq!(keys(&stats["energy"]), set(&["emitted", "absorbed"]));
+    for list in ["objects", "materials"] {
+        let items = stats[list].as_array().expect("list");
+        assert!(!items.is_empty(), "{list} is empty");
+        for item in items {
+            assert_eq!(keys(item), set(&["name", "area", "radiosity"]));
+            assert_eq!(item["radiosity"].as_array().map(Vec::len), Some(3));
+        }
+    }
+    let elements = stats["elements"].as_u64().expect("elements");
+    // The subdivision is uniform per patch: within a factor of 4 of the request.
+    assert!((50..=800).contains(&elements), "elements {elements}");
+    let total = stats["timings"]["total"].as_f64().expect("total");
+    let parts: f64 = ["load", "mesh", "form_factors", "solve", "render"]
+        .iter()
+        .map(|k| stats["timings"][k].as_f64().expect("timing"))
+        .sum();
+    assert!(
+        total >= parts * 0.999,
+        "total {total} < sum of stages {parts}"
+    );
+    fs::remove_dir_all(&dir).expect("cleanup");
+}
+
+#[test]
+fn solve_exports_ply_with_object_names() {
+    let dir = scratch("solve");
+    fs::write(dir.join("room.toml"), scene_text("")).expect("write scene");
+    let out = run(
+        &dir,
+        &[
+            "solve",
+            "room.toml",
+            "--elements",
+            "96",
+            "--export",
+            "lit.ply",
+            "--stats",
+            "s.json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(files(&dir), ["lit.ply", "room.toml", "s.json"]);
+    let ply = fs::read(dir.join("lit.ply")).expect("ply");
+    let text = String::from_utf8_lossy(&ply);
+    let header = &text[..text.find("end_header\n").expect("header end")];
+    assert!(header.starts_with("ply\nformat binary_little_endian 1.0\n"));
+    assert!(header.contains("comment object 0 room\n"), "{header}");
+    assert!(header.contains("comment object 1 floor\n"), "{header}");
+    let count = |element: &str| -> usize {
+        header
+            .lines()
+            .find_map(|l| l.strip_prefix(&format!("element {element} ")))
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("no {element} count in {header}"))
+    };
+    let (vertices, faces) = (count("vertex"), count("face"));
+    assert!(faces >= 96, "{faces} faces for ≥ 96 elements");
+    // Vertex: 6 floats + 3 bytes; face: count byte, 3 ints, object int.
+    let body = ply.len() - header.len() - "end_header\n".len();
+    assert_eq!(body, vertices * 27 + faces * 17);
+
+    // The same mesh as binary glTF: header magic, version 2, and the total length.
+    let out = run(
+        &dir,
+        &[
+            "solve",
+            "room.toml",
+            "--elements",
+            "96",
+            "--export",
+            "lit.glb",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let glb = fs::read(dir.join("lit.glb")).expect("glb");
+    assert_eq!(&glb[..8], b"glTF\x02\0\0\0");
+    assert_eq!(
+        u32::from_le_bytes([glb[8], glb[9], glb[10], glb[11]]) as usize,
+        glb.len()
+    );
+    fs::remove_dir_all(&dir).expect("cleanup");
+}
+
+/// Checks a failure: status 2, exactly one stderr line `error: ...` containing every one of
+/// `mentions`, and no file in `dir` other than `keep`.
+fn assert_fails(name: &str, args: &[&str], mentions: &[&str]) {
+    let dir = scratch(name);
+    fs::write(dir.join("room.toml"), scene_text("")).expect("write scene");
+    fs::write(dir.join("bad.toml"), scene_text("colour = [1, 0, 0]")).expect("write scene");
+    let out = run(&dir, args);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{name}: {err}");
+    assert_eq!(err.lines().count(), 1, "{name}: one line expected: {err}");
+    assert!(err.starts_with("error: "), "{name}: {err}");
+    for m in mentions {
+        assert!(err.contains(m), "{name}: {err:?} does not mention {m:?}");
+    }
+    assert!(
+        out.stdout.is_empty(),
+        "{name}: stdout {:?}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert_eq!(
+        files(&dir),
+        ["bad.toml", "room.toml"],
+        "{name}: output left behind"
+    );
+    fs::remove_dir_all(&dir).expect("cleanup");
+}
+
+#[test]
+fn bad_inputs_exit_2_with_one_line_and_no_output() {
+    let small = [
+        "--elements",
+        "24",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--stats",
+        "s.json",
+    ];
+    let with = |head: &[&'static str]| -> Vec<&'static str> {
+        head.iter().copied().chain(small.iter().copied()).collect()
+    };
+    assert_fails(
+        "missing-file",
+        &with(&["render", "nope.toml", "-o", "x.png"]),
+        &["nope.toml"],
+    );
+    let at = format!("bad.toml:{}", colour_line());
+    assert_fails(
+        "unknown-key",
+        &with(&["render", "bad.toml", "-o", "x.png"]),
+        &[at.as_str(), "colour"],
+    );
+    assert_fails(
+        "bad-width",
+        &with(&["render", "room.toml", "-o", "x.png", "--width", "wide"]),
+        &["--width", "wide"],
+    );
+    assert_fails(
+        "bad-memory",
+        &with(&["render", "room.toml", "--max-memory", "lots"]),
+        &["--max-memory", "lots"],
+    );
+    assert_fails(
+        "bad-solver",
+        &with(&["render", "room.toml", "--solver", "magic"]),
+        &["--solver", "magic"],
+    );
+    assert_fails(
+        "unknown-camera",
+        &with(&["render", "room.toml", "-o", "x.png", "--camera", "side"]),
+        &["side", "front"],
+    );
+    assert_fails(
+        "unwritable-dir",
+        &with(&["render", "room.toml", "-o", "no/such/dir/x.png"]),
+        &["no/such/dir"],
+    );
+    assert_fails(
+        "unwritable-stats",
+        &[
+            "solve",
+            "room.toml",
+            "--elements",
+            "24",
+            "--stats",
+            "gone/s.json",
+        ],
+        &["gone/s.json"],
+    );
+    assert_fails(
+        "output-extension",
+        &with(&["render", "room.toml", "-o", "x.bmp"]),
+        &["x.bmp", "bmp"],
+    );
+    assert_fails(
+        "export-extension",
+        &with(&["render", "room.toml", "-o", "x.png", "--export", "lit.stl"]),
+        &["lit.stl"],
+    );
+    assert_fails(
+        "mode",
+        &with(&["render", "room.toml", "--mode", "local"]),
+        &["--mode local is not available yet"],
+    );
+    assert_fails("no-scene", &["solve"], &["SCENE"]);
+}
+
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    let dir = scratch("threads");
+    let mut objects = Vec::new();
+    let mut images = Vec::new();
+    for threads in ["1", "2"] {
+        let (pfm, json) = (format!("t{threads}.pfm"), format!("t{threads}.json"));
+        let out = run(
+            &dir,
+            &[
+                "render",
+                "cornell",
+                "--width",
+                "48",
+                "--height",
+                "40",
+                "--elements",
+                "300",
+                "--threads",
+                threads,
+                "-o",
+                &pfm,
+                "--stats",
+                &json,
+                "--quiet",
+            ],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        let stats: serde_json::Value =
+            serde_json::from_slice(&fs::read(dir.join(&json)).expect("stats")).expect("json");
+        objects.push(serde_json::to_string(&stats["objects"]).expect("serialize"));
+        images.push(fs::read(dir.join(&pfm)).expect("pfm"));
+    }
+    assert_eq!(
+        objects[0], objects[1],
+        "stats objects differ between 1 and 2 threads"
+    );
+    assert!(images[0].starts_with(b"PF\n48 40\n"), "a 48×40 colour PFM");
+    assert!(
+        images[0] == images[1],
+        "PFM bytes differ between 1 and 2 threads"
+    );
+    fs::remove_dir_all(&dir).expect("cleanup");
+}
