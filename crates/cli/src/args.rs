@@ -94,6 +94,13 @@ pub struct CommonArgs {
     /// Subdivide until no element is larger than A (scene units²).
     #[arg(long, value_name = "A", value_parser = positive_f64)]
     pub max_element_area: Option<f64>,
+    /// Most light sources: quadtree nodes that shoot the mean radiosity of their elements
+    /// (substructuring). Sources are the elements themselves when there are fewer elements.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub sources: Option<u64>,
+    /// Shadow rays per element–source pair (ray-cast form factors).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub rays: Option<u32>,
     /// Stop iterating when the residual falls below this (relative).
     #[arg(long, value_parser = positive_f64)]
     pub tolerance: Option<f64>,
@@ -118,7 +125,8 @@ pub struct CommonArgs {
 /// `radiosity bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// Triangles in the benchmark scene (a field of tessellated spheres).
+    /// Triangles in the large benchmark scene (a field of tessellated spheres); the built-in
+    /// Cornell box is always measured too.
     #[arg(long, default_value_t = 1_000_000, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
     pub triangles: u64,
     /// Incoherent rays per measurement.
@@ -134,8 +142,9 @@ pub struct BenchArgs {
     /// Also write the reports as JSON.
     #[arg(long, value_name = "PATH")]
     pub json: Option<PathBuf>,
-    /// Also write the triangles and rays (for tracing them with another tracer).
-    #[arg(long, value_name = "PATH")]
+    /// Also write each scene's triangles and rays to DIR/<scene>.bin (for tracing them with
+    /// another tracer: `benches/embree_rays.py`).
+    #[arg(long, value_name = "DIR")]
     pub workload: Option<PathBuf>,
 }
 

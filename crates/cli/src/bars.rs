@@ -31,12 +31,16 @@ impl Progress for Bars {
         if !self.enabled {
             return;
         }
-        let style = ProgressStyle::with_template(
-            "{prefix:>14} [{bar:30}] {pos}/{len} ({elapsed}, eta {eta})",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar())
-        .progress_chars("=> ");
-        let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr())
+        let template = if total == 0 {
+            "{prefix:>14} {spinner} {pos} ({elapsed})"
+        } else {
+            "{prefix:>14} [{bar:30}] {pos}/{len} ({elapsed}, eta {eta})"
+        };
+        let style = ProgressStyle::with_template(template)
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> ");
+        let length = (total > 0).then_some(total);
+        let bar = ProgressBar::with_draw_target(length, ProgressDrawTarget::stderr())
             .with_style(style)
             .with_prefix(stage.to_string());
         bar.enable_steady_tick(Duration::from_millis(200));

@@ -1,16 +1,18 @@
 //! `radiosity bench`: ray throughput of the BVH on incoherent rays
-//! (see [`radiosity::accel::bench`]).
+//! (see [`radiosity::accel::bench`]), on the built-in Cornell box and on a large sphere field.
 
 use std::io::Write;
 
 use anyhow::Context;
 use radiosity::accel::{bench, Bvh};
 use radiosity::io::atomic::write_atomic;
+use radiosity::mesh::{Mesh, Subdivision};
+use radiosity::scene::builtin;
 
 use crate::args::BenchArgs;
 
-/// Builds the sphere field, generates the rays, times occlusion and closest-hit queries for
-/// each thread count, and prints one line per count (plus JSON and the workload if asked).
+/// Measures both scenes for each thread count, prints one line per measurement, and writes the
+/// JSON reports and the workloads if asked.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let threads: Vec<usize> = if args.threads.is_empty() {
         let cores = std::thread::available_parallelism().map_or(1, usize::from);
@@ -22,31 +24,46 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     } else {
         args.threads.iter().map(|&n| n as usize).collect()
     };
-    let triangles = bench::sphere_field_triangles(args.triangles as usize);
-    let bvh = Bvh::build(&triangles);
-    let rays = bench::incoherent_rays(&triangles, &bvh, args.rays as usize, args.seed);
-    drop(bvh);
-    if let Some(path) = &args.workload {
-        bench::write_workload(path, &triangles, &rays)
-            .with_context(|| format!("{}: cannot write", path.display()))?;
-    }
-    let reports = bench::run(&triangles, &rays, &threads).context("cannot start threads")?;
+    let cornell = builtin::load("cornell").context("the built-in Cornell box is missing")??;
+    let scenes = [
+        (
+            "cornell",
+            Mesh::build(&cornell, Subdivision::Elements(1)).triangles,
+        ),
+        (
+            "spheres",
+            bench::sphere_field_triangles(args.triangles as usize),
+        ),
+    ];
+    let mut all = Vec::new();
     let mut out = std::io::stdout().lock();
-    for r in &reports {
-        writeln!(
-            out,
-            "threads {:>3}  triangles {}  rays {}  build {:.3} s  occlusion {:.2} Mrays/s  \
-             closest hit {:.2} Mrays/s",
-            r.threads,
-            r.triangles,
-            r.rays,
-            r.build_seconds,
-            r.occlusion_rays_per_second / 1e6,
-            r.closest_hit_rays_per_second / 1e6,
-        )?;
+    for (name, triangles) in &scenes {
+        let bvh = Bvh::build(triangles);
+        let rays = bench::incoherent_rays(triangles, &bvh, args.rays as usize, args.seed);
+        drop(bvh);
+        if let Some(dir) = &args.workload {
+            let path = dir.join(format!("{name}.bin"));
+            write_atomic(&path, |w| bench::write_workload(w, triangles, &rays))
+                .with_context(|| format!("{}: cannot write", path.display()))?;
+        }
+        let reports = bench::run(triangles, &rays, &threads).context("cannot start threads")?;
+        for r in &reports {
+            writeln!(
+                out,
+                "{name:<8} threads {:>3}  triangles {:>8}  rays {}  build {:.3} s  \
+                 occlusion {:.2} Mrays/s  closest hit {:.2} Mrays/s",
+                r.threads,
+                r.triangles,
+                r.rays,
+                r.build_seconds,
+                r.occlusion_rays_per_second / 1e6,
+                r.closest_hit_rays_per_second / 1e6,
+            )?;
+        }
+        all.push(serde_json::json!({ "scene": name, "reports": reports }));
     }
     if let Some(path) = &args.json {
-        let json = serde_json::to_vec_pretty(&reports)?;
+        let json = serde_json::to_vec_pretty(&all)?;
         write_atomic(path, |w| w.write_all(&json))
             .with_context(|| format!("{}: cannot write", path.display()))?;
     }

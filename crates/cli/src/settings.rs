@@ -25,6 +25,12 @@ pub fn pipeline_settings(common: &CommonArgs) -> pipeline::Settings {
             FormFactors::Raycast => formfactor::Method::RayCast,
         };
     }
+    if let Some(n) = common.sources {
+        settings.solve.max_sources = usize::try_from(n).unwrap_or(usize::MAX);
+    }
+    if let Some(rays) = common.rays {
+        settings.form_factors.rays = rays;
+    }
     if let Some(seed) = common.seed {
         settings.form_factors.seed = seed;
     }

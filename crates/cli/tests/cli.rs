@@ -350,6 +350,29 @@ fn bad_inputs_exit_2_with_one_line_and_no_output() {
         &["--mode local is not available yet"],
     );
     assert_fails("no-scene", &["solve"], &["SCENE"]);
+    assert_fails(
+        "absurd-elements",
+        &["render", "room.toml", "--max-element-area", "1e-12"],
+        &["--elements", "--max-memory"],
+    );
+    assert_fails(
+        "matrix-too-large",
+        &[
+            "render",
+            "room.toml",
+            "--elements",
+            "400",
+            "--solver",
+            "jacobi",
+            "--max-memory",
+            "150K",
+            "--width",
+            "8",
+            "--height",
+            "8",
+        ],
+        &["--solver progressive", "--max-memory"],
+    );
 }
 
 #[test]

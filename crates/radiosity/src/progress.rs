@@ -2,7 +2,8 @@
 
 /// Receives progress of a long stage. The command line shows bars; tests pass [`Silent`].
 pub trait Progress: Sync {
-    /// A stage named `stage` begins with `total` units of work.
+    /// A stage named `stage` begins with `total` units of work (0 when the amount is not known
+    /// in advance, as for iterations to convergence).
     fn start(&self, stage: &str, total: u64);
     /// `n` more units are done.
     fn advance(&self, n: u64);

@@ -23,6 +23,7 @@ fn raycast(quadrature: u32, rays: u32) -> Box<dyn FormFactors> {
         quadrature,
         rays,
         seed: 7,
+        ..Settings::default()
     })
 }
 

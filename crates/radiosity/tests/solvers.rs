@@ -20,6 +20,7 @@ fn ff_settings() -> formfactor::Settings {
         quadrature: 2,
         rays: 4,
         seed: 1,
+        ..formfactor::Settings::default()
     }
 }
 

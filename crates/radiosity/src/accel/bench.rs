@@ -12,7 +12,6 @@
 //! Both tracers use t in (0, [`T_MAX`]).
 
 use std::io::{self, Write};
-use std::path::Path;
 use std::time::Instant;
 
 use glam::Vec3;
@@ -218,11 +217,15 @@ pub fn run(
 ///
 /// # Errors
 /// I/O errors, and `InvalidInput` when a count does not fit in a `u32`.
-pub fn write_workload(path: &Path, triangles: &[[Vec3; 3]], rays: &[Ray]) -> io::Result<()> {
+pub fn write_workload(
+    out: &mut dyn Write,
+    triangles: &[[Vec3; 3]],
+    rays: &[Ray],
+) -> io::Result<()> {
     let count = |n: usize| {
         u32::try_from(n).map_err(|_| io::Error::new(io::ErrorKind::InvalidInput, "count > u32"))
     };
-    let mut out = io::BufWriter::new(std::fs::File::create(path)?);
+    let mut out = io::BufWriter::new(out);
     out.write_all(&count(triangles.len())?.to_le_bytes())?;
     out.write_all(&count(rays.len())?.to_le_bytes())?;
     let mut put = |v: Vec3| -> io::Result<()> {
@@ -283,10 +286,8 @@ mod tests {
     fn workload_file_has_the_documented_layout() {
         let tris = vec![[Vec3::X, Vec3::Y, Vec3::Z]];
         let rays = vec![Ray::new(Vec3::ZERO, Vec3::ONE)];
-        let path = std::env::temp_dir().join(format!("workload-{}.bin", std::process::id()));
-        write_workload(&path, &tris, &rays).unwrap();
-        let bytes = std::fs::read(&path).unwrap();
-        std::fs::remove_file(&path).unwrap();
+        let mut bytes = Vec::new();
+        write_workload(&mut bytes, &tris, &rays).unwrap();
         assert_eq!(bytes.len(), 8 + 9 * 4 + 6 * 4);
         assert_eq!(&bytes[0..8], &[1, 0, 0, 0, 1, 0, 0, 0]);
         assert_eq!(&bytes[8..12], &1f32.to_le_bytes());

@@ -15,7 +15,8 @@
 //!
 //! The binary tree is then collapsed into a [`WIDTH`]-wide one (Wald et al. 2008, "Getting
 //! rid of packets"): a node adopts the children of its largest interior child until it has
-//! four, which halves the depth and so the cache misses of a traversal.
+//! [`WIDTH`], which divides the depth by about log₂ WIDTH and so cuts the cache misses of a
+//! traversal.
 
 use glam::Vec3;
 
@@ -30,7 +31,7 @@ struct Node2 {
 
 /// Centroid bins per axis.
 const BINS: usize = 32;
-/// Cost of visiting a node (four slab tests and a likely cache miss), relative to one
+/// Cost of visiting a binary node (two slab tests and a likely cache miss), relative to one
 /// triangle test (1 measured faster than 2 and 3 on both benchmark scenes).
 const TRAVERSAL_COST: f32 = 1.0;
 /// Below this depth splits follow the SAH; deeper, ranges are halved by count, which bounds

@@ -1,23 +1,26 @@
 //! The bounding-volume hierarchy and its two queries.
 //!
-//! Layout: a 4-wide tree (Wald et al. 2008; Embree's BVH4) whose nodes hold the boxes of their
-//! four children in structure-of-arrays form, `bounds[plane][child]`, so the four slab tests of
-//! a traversal step are lane-parallel arithmetic that LLVM turns into SSE. A node is 128 bytes,
-//! two adjacent cache lines. Nodes are stored depth-first, so a first child follows its parent.
+//! Layout: an 8-wide tree (Wald et al. 2008; Embree's BVH8) whose nodes hold the boxes of their
+//! eight children in structure-of-arrays form, `bounds[plane][child]`, so the eight slab tests
+//! of a traversal step are lane-parallel arithmetic that LLVM turns into packed SSE
+//! (`minps`/`maxps`/`mulps`). A node is 256 bytes, four adjacent cache lines; the tree is a
+//! third as deep as a binary one, and on large scenes, where every node visited is a likely
+//! cache miss, depth is what costs. Nodes are stored depth-first, so a first child follows its parent.
 //! A child reference is a node index, or — top bit set — a leaf: `LEAF | first << 3 |
 //! (count − 1)` naming up to [`MAX_LEAF`] consecutive triangles of the re-ordered triangle
 //! array, which holds a vertex and the two edges of each (what Möller–Trumbore needs) in leaf
 //! order. Unused child slots have an inverted (empty) box, which no slab test accepts.
 //!
 //! Measured against a binary tree with both child boxes in one 64-byte node (Aila & Laine
-//! 2009): see `benches/README.md`.
+//! 2009) and a 4-wide tree, 8 wide was fastest on both benchmark scenes: see
+//! `benches/README.md`.
 //!
-//! Traversal is ordered. Leaf children whose box is hit are tested at once (cheap, and the
-//! large triangles of shallow leaves are the likeliest blockers). Of the interior children hit,
-//! one is visited next and the others are pushed, the next-best last:
-//! - closest hit: nearest entry distance first, and a popped entry is skipped when a closer hit
-//!   has been found since;
-//! - occlusion: largest box first. Any hit ends the query, and the chance that a random ray
+//! Traversal is ordered: of the children whose box is hit, the best is visited next and the
+//! others are pushed, the next-best last:
+//! - closest hit: nearest entry distance first (leaves included), and a popped entry is skipped
+//!   when a closer hit has been found since;
+//! - occlusion: leaf children are tested at once (cheap, and the large triangles of shallow
+//!   leaves are the likeliest blockers), interior children largest box first. Any hit ends the query, and the chance that a random ray
 //!   crossing a box hits something in it grows with the box's area (the surface-area order of
 //!   Ize & Hansen 2011, "RTSAH traversal order for occlusion rays"); measured 6× faster than
 //!   nearest-first on the 1M-triangle benchmark, whose closed room puts large walls high in
@@ -301,67 +304,68 @@ impl Bvh {
         let mut best: Option<(usize, f32, f32)> = None;
         let mut stack = [(0u32, 0f32); STACK];
         let mut sp = 0usize;
-        // The root may be a leaf: then it is the only work.
         let mut cur = self.root;
-        if is_leaf(cur) {
-            self.leaf::<ANY>(cur, o, d, &mut best_t, &mut best);
-            return self.hit(best, best_t);
-        }
         loop {
-            let node = &self.nodes[cur as usize];
-            let b = &node.bounds;
-            // Slab tests of the four children, lane by lane.
-            let mut near = [0f32; WIDTH];
-            let mut far = [0f32; WIDTH];
-            for k in 0..WIDTH {
-                let tx0 = (b[nx][k] - o.x) * inv.x;
-                let ty0 = (b[ny][k] - o.y) * inv.y;
-                let tz0 = (b[nz][k] - o.z) * inv.z;
-                let tx1 = (b[fx][k] - o.x) * inv.x;
-                let ty1 = (b[fy][k] - o.y) * inv.y;
-                let tz1 = (b[fz][k] - o.z) * inv.z;
-                near[k] = max(max(tx0, ty0), max(tz0, 0.0));
-                far[k] = min(min(tx1, ty1), min(tz1, best_t)) * ROBUST_FAR;
-            }
-            // Leaves at once; interior children gathered with their sort key (entry distance,
-            // or minus the half area for occlusion).
-            let mut todo = [(0u32, 0f32); WIDTH];
-            let mut n = 0;
-            for k in 0..WIDTH {
-                if near[k] <= far[k] {
-                    let c = node.child[k];
-                    if is_leaf(c) {
-                        if self.leaf::<ANY>(c, o, d, &mut best_t, &mut best) && ANY {
-                            return self.hit(best, best_t);
-                        }
-                    } else {
-                        let key = if ANY {
+            if is_leaf(cur) {
+                if self.leaf::<ANY>(cur, o, d, &mut best_t, &mut best) && ANY {
+                    return self.hit(best, best_t);
+                }
+            } else {
+                let node = &self.nodes[cur as usize];
+                let b = &node.bounds;
+                // Slab tests of all children, lane by lane.
+                let mut near = [0f32; WIDTH];
+                let mut far = [0f32; WIDTH];
+                for k in 0..WIDTH {
+                    let tx0 = (b[nx][k] - o.x) * inv.x;
+                    let ty0 = (b[ny][k] - o.y) * inv.y;
+                    let tz0 = (b[nz][k] - o.z) * inv.z;
+                    let tx1 = (b[fx][k] - o.x) * inv.x;
+                    let ty1 = (b[fy][k] - o.y) * inv.y;
+                    let tz1 = (b[fz][k] - o.z) * inv.z;
+                    near[k] = max(max(tx0, ty0), max(tz0, 0.0));
+                    far[k] = min(min(tx1, ty1), min(tz1, best_t)) * ROBUST_FAR;
+                }
+                // Gather the children hit with their sort key: entry distance for closest
+                // hits; for occlusion leaves are tested at once and interior children keyed
+                // by minus their half area.
+                let mut todo = [(0u32, 0f32); WIDTH];
+                let mut n = 0;
+                for k in 0..WIDTH {
+                    if near[k] <= far[k] {
+                        let c = node.child[k];
+                        let key = if !ANY {
+                            near[k]
+                        } else if is_leaf(c) {
+                            if self.leaf::<ANY>(c, o, d, &mut best_t, &mut best) {
+                                return self.hit(best, best_t);
+                            }
+                            continue;
+                        } else {
                             let dx = b[1][k] - b[0][k];
                             let dy = b[3][k] - b[2][k];
                             let dz = b[5][k] - b[4][k];
                             -(dx * dy + dy * dz + dz * dx)
-                        } else {
-                            near[k]
                         };
                         todo[n] = (c, key);
                         n += 1;
                     }
                 }
-            }
-            if n > 0 {
-                // Sort worst first (insertion sort of at most four), push all but the best,
-                // go on with it.
-                for i in 1..n {
-                    let mut j = i;
-                    while j > 0 && todo[j - 1].1 < todo[j].1 {
-                        todo.swap(j - 1, j);
-                        j -= 1;
+                if n > 0 {
+                    // Sort worst first (insertion sort of at most eight), push all but the
+                    // best, go on with it.
+                    for i in 1..n {
+                        let mut j = i;
+                        while j > 0 && todo[j - 1].1 < todo[j].1 {
+                            todo.swap(j - 1, j);
+                            j -= 1;
+                        }
                     }
+                    stack[sp..sp + n - 1].copy_from_slice(&todo[..n - 1]);
+                    sp += n - 1;
+                    cur = todo[n - 1].0;
+                    continue;
                 }
-                stack[sp..sp + n - 1].copy_from_slice(&todo[..n - 1]);
-                sp += n - 1;
-                cur = todo[n - 1].0;
-                continue;
             }
             // Pop the next subtree that may still hold a closer hit.
             loop {
@@ -379,13 +383,13 @@ impl Bvh {
     }
 
     /// Most stack entries a traversal from reference `r` can hold: along any path down, the sum
-    /// of each node's interior children less the one visited next.
+    /// of each node's children less the one visited next.
     fn stack_need(&self, r: u32) -> usize {
         if is_leaf(r) {
             return 0;
         }
         let node = &self.nodes[r as usize];
-        let interior = node.child.iter().filter(|&&c| !is_leaf(c)).count();
+        let used = node.child.iter().filter(|&&c| c != EMPTY_CHILD).count();
         let below = node
             .child
             .iter()
@@ -393,7 +397,7 @@ impl Bvh {
             .map(|&c| self.stack_need(c))
             .max()
             .unwrap_or(0);
-        interior.saturating_sub(1) + below
+        used.saturating_sub(1) + below
     }
 
     /// Tests the triangles of leaf `r`, keeping the nearest hit below `best_t`; with `ANY`
@@ -564,8 +568,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn node_is_two_cache_lines() {
-        assert_eq!(std::mem::size_of::<Node>(), 128);
+    fn node_is_four_cache_lines() {
+        assert_eq!(std::mem::size_of::<Node>(), 256);
     }
 
     #[test]

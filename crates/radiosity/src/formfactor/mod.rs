@@ -27,6 +27,7 @@
 //! The defaults were measured on the Cornell box (see [`Settings::default`]).
 
 pub mod analytic;
+pub mod hemicube;
 pub mod raycast;
 
 use std::fmt;
@@ -90,11 +91,13 @@ pub enum Method {
     /// Lambert's contour integral times a ray-cast visibility fraction.
     #[default]
     RayCast,
+    /// Item-buffer hemicubes (Cohen & Greenberg 1985), see [`hemicube`].
+    Hemicube,
 }
 
 impl Method {
     /// Every method, in the order the command line lists them.
-    pub const ALL: [Method; 2] = [Method::Analytic, Method::RayCast];
+    pub const ALL: [Method; 3] = [Method::Analytic, Method::RayCast, Method::Hemicube];
 
     /// The name used on the command line and in stats.
     #[must_use]
@@ -102,6 +105,7 @@ impl Method {
         match self {
             Method::Analytic => "analytic",
             Method::RayCast => "raycast",
+            Method::Hemicube => "hemicube",
         }
     }
 }
@@ -114,7 +118,7 @@ impl fmt::Display for Method {
 
 /// An unknown method name.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown form-factor method `{0}` (choose analytic or raycast)")]
+#[error("unknown form-factor method `{0}` (choose analytic, raycast or hemicube)")]
 pub struct UnknownMethod(pub String);
 
 impl FromStr for Method {
@@ -137,8 +141,10 @@ pub struct Settings {
     pub quadrature: u32,
     /// Shadow rays per element–source pair (ray casting only; at least 1).
     pub rays: u32,
-    /// Seed of the ray jitter.
+    /// Seed of the ray jitter and of the hemicubes' rotations.
     pub seed: u64,
+    /// Cells along a full edge of a hemicube (hemicubes only; even, at least 2).
+    pub hemicube_resolution: u32,
 }
 
 impl Default for Settings {
@@ -165,6 +171,7 @@ impl Default for Settings {
             quadrature: 2,
             rays: 16,
             seed: 0,
+            hemicube_resolution: hemicube::DEFAULT_RESOLUTION,
         }
     }
 }
@@ -177,6 +184,11 @@ pub fn build(settings: &Settings) -> Box<dyn FormFactors> {
         Method::RayCast => Box::new(raycast::RayCast::new(
             settings.quadrature,
             settings.rays,
+            settings.seed,
+        )),
+        Method::Hemicube => Box::new(hemicube::Hemicube::new(
+            settings.hemicube_resolution,
+            settings.quadrature,
             settings.seed,
         )),
     }
@@ -238,14 +250,17 @@ impl Receiver {
 }
 
 /// Whether two faces can exchange light at all: some corner of each lies strictly in front of
-/// the other's plane. Coplanar faces, and faces back to back, cannot.
-pub(crate) fn facing(receiver: &Face, source: &Face) -> bool {
-    let in_front = |of: &Face, points: &[Vec3]| {
-        let (n, p) = (of.normal(), of.corners()[0]);
-        let scale = of.diameter().max(f32::MIN_POSITIVE);
+/// the other's plane (the plane through its first corner with its patch's normal `n`). Coplanar
+/// faces, and faces back to back, cannot.
+pub(crate) fn facing(receiver: &Face, n_receiver: Vec3, source: &Face, n_source: Vec3) -> bool {
+    let in_front = |of: &Face, n: Vec3, points: &[Vec3]| {
+        let p = of.corners()[0];
+        // A tolerance relative to the face's size (its first diagonal).
+        let scale = p.distance(of.corners()[2]).max(f32::MIN_POSITIVE);
         points.iter().any(|&q| n.dot(q - p) > 1e-6 * scale)
     };
-    in_front(receiver, source.corners()) && in_front(source, receiver.corners())
+    in_front(receiver, n_receiver, source.corners())
+        && in_front(source, n_source, receiver.corners())
 }
 
 /// The unoccluded form factor from a receiver to a source polygon: the weighted sum of
@@ -263,7 +278,16 @@ pub(crate) fn unoccluded(receiver: &Receiver, source: &[DVec3]) -> f64 {
 pub(crate) fn pair_unoccluded(g: &Geometry, receiver: &Receiver, e: usize, s: usize) -> f64 {
     let element = g.mesh.element(e);
     let source = &g.mesh.nodes[g.sources[s] as usize];
-    if element.patch == source.patch || !facing(&element.face, &source.face) {
+    if element.patch == source.patch {
+        return 0.0;
+    }
+    let normal = |patch: u32| g.mesh.patches[patch as usize].normal;
+    if !facing(
+        &element.face,
+        normal(element.patch),
+        &source.face,
+        normal(source.patch),
+    ) {
         return 0.0;
     }
     let mut corners = [DVec3::ZERO; 4];
@@ -315,8 +339,8 @@ mod tests {
         for m in Method::ALL {
             assert_eq!(m.name().parse::<Method>(), Ok(m));
         }
-        let err = "hemicube".parse::<Method>().unwrap_err().to_string();
-        assert!(err.contains("analytic") && err.contains("raycast"), "{err}");
+        let err = "nusselt".parse::<Method>().unwrap_err().to_string();
+        assert!(err.contains("analytic") && err.contains("hemicube"), "{err}");
     }
 
     #[test]

@@ -89,7 +89,8 @@ impl RayCast {
     fn visibility(&self, g: &Geometry, e: usize, s: usize, lift: f32) -> f64 {
         let from: &Face = &g.mesh.element(e).face;
         let to: &Face = g.source_face(s);
-        let (n_from, n_to) = (from.normal() * lift, to.normal() * lift);
+        let normal = |patch: u32| g.mesh.patches[patch as usize].normal * lift;
+        let (n_from, n_to) = (normal(g.mesh.element(e).patch), normal(g.source_patch(s)));
         let pair = mix(mix(mix(self.seed) ^ e as u64) ^ s as u64);
         let arrives = |(u, v): (f32, f32), (su, sv): (f32, f32)| {
             let origin = from.point(u, v) + n_from;

@@ -82,18 +82,19 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// How many elements [`Mesh::build`] would make, without making them (to refuse absurd
+    /// requests before allocating).
+    #[must_use]
+    pub fn planned_elements(scene: &Scene, subdivision: Subdivision) -> f64 {
+        let areas = root_areas(&patch::patches(scene));
+        element_count(&areas, target_for(&areas, subdivision))
+    }
+
     /// Splits every polygon of `scene` into patches and subdivides them uniformly.
     #[must_use]
     pub fn build(scene: &Scene, subdivision: Subdivision) -> Self {
         let patches = patch::patches(scene);
-        let areas: Vec<f64> = patches
-            .iter()
-            .flat_map(|(_, roots)| roots.iter().map(Face::area))
-            .collect();
-        let target = match subdivision {
-            Subdivision::MaxArea(a) => a,
-            Subdivision::Elements(n) => target_area(&areas, n),
-        };
+        let target = target_for(&root_areas(&patches), subdivision);
         let mut mesh = Mesh::default();
         for (index, (patch, roots)) in patches.into_iter().enumerate() {
             let first = mesh.nodes.len() as u32;
@@ -214,18 +215,34 @@ impl Mesh {
         self.patches.iter().map(|p| p.area).sum()
     }
 
-    /// A cut through the quadtrees used as light sources: for each root, the shallowest nodes
-    /// whose area is at most `total_area / max_sources` (or the leaves, if those are larger).
+    /// A cut through the quadtrees used as light sources: at most `max_sources` nodes (or the
+    /// root faces, if there are more of those), each as
+    /// small as that allows — for each root, the shallowest nodes whose area is at most a
+    /// threshold, with the threshold found by bisection (or the leaves, if they are larger).
     ///
     /// Receivers are always the elements; sources may be coarser, which is the substructuring
     /// of Cohen et al. 1986: a source shoots the area-weighted mean radiosity of its elements.
-    /// With `max_sources ≥ element_count()` the sources are exactly the elements.
+    /// With `max_sources ≥ element_count()` the sources are exactly the elements, in order.
     #[must_use]
     pub fn sources(&self, max_sources: usize) -> Vec<u32> {
         if max_sources >= self.element_count() {
             return self.elements.clone();
         }
-        let threshold = self.total_area() / max_sources.max(1) as f64;
+        // The count falls as the threshold grows; find the smallest threshold that fits.
+        let (mut lo, mut hi) = (0.0, self.total_area());
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if self.cut(mid).len() > max_sources.max(1) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        self.cut(hi)
+    }
+
+    /// The shallowest nodes of area at most `threshold` (or leaves), in element order.
+    fn cut(&self, threshold: f64) -> Vec<u32> {
         let mut out = Vec::new();
         // Depth-first, roots in patch order: sources come out in element order.
         let mut stack: Vec<u32> = self.roots.iter().flat_map(|r| r.clone()).collect();
@@ -300,14 +317,33 @@ fn level_for(area: f64, target: f64) -> u8 {
     levels.min(f64::from(MAX_LEVEL)) as u8
 }
 
+/// Areas of all root faces of all patches.
+fn root_areas(patches: &[(Patch, Vec<Face>)]) -> Vec<f64> {
+    patches
+        .iter()
+        .flat_map(|(_, roots)| roots.iter().map(Face::area))
+        .collect()
+}
+
+/// The target element area that `subdivision` asks for.
+fn target_for(root_areas: &[f64], subdivision: Subdivision) -> f64 {
+    match subdivision {
+        Subdivision::MaxArea(a) => a,
+        Subdivision::Elements(n) => target_area(root_areas, n),
+    }
+}
+
+/// Elements made by subdividing every root face down to `target` area.
+fn element_count(root_areas: &[f64], target: f64) -> f64 {
+    root_areas
+        .iter()
+        .map(|&a| 4f64.powi(i32::from(level_for(a, target))))
+        .sum()
+}
+
 /// The target element area that brings the total number of elements closest to `n`.
 fn target_area(root_areas: &[f64], n: usize) -> f64 {
-    let count = |t: f64| -> f64 {
-        root_areas
-            .iter()
-            .map(|&a| 4f64.powi(i32::from(level_for(a, t))))
-            .sum()
-    };
+    let count = |t: f64| element_count(root_areas, t);
     let total: f64 = root_areas.iter().sum();
     let goal = n.max(1) as f64;
     // The count falls as the target grows; bisect on a log scale.
@@ -373,6 +409,7 @@ mod tests {
         let mesh = Mesh::build(&square_scene(false), Subdivision::Elements(1024));
         let sources = mesh.sources(64);
         assert_eq!(sources.len(), 64);
+        assert_eq!(mesh.sources(100).len(), 64, "the next cut has 256 nodes");
         let mut covered = 0;
         for &s in &sources {
             let r = &mesh.nodes[s as usize].elements;

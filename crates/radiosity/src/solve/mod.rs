@@ -221,7 +221,7 @@ pub fn solve(
             solution.form_factor_seconds = start.elapsed().as_secs_f64();
             solution.links = matrix.links();
             let start = Instant::now();
-            progress.start("solve", settings.max_iterations as u64);
+            progress.start("solve", 0);
             let run = if settings.method == Method::Jacobi {
                 jacobi::run(&system, &matrix, settings, progress)
             } else {
@@ -235,7 +235,7 @@ pub fn solve(
         }
         Method::Progressive => {
             let start = Instant::now();
-            progress.start("solve", settings.max_iterations as u64);
+            progress.start("solve", 0);
             let run = progressive::run(&system, g, ff, settings, progress);
             progress.finish();
             solution.radiosity = run.radiosity;
