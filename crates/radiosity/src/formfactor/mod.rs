@@ -340,7 +340,10 @@ mod tests {
             assert_eq!(m.name().parse::<Method>(), Ok(m));
         }
         let err = "nusselt".parse::<Method>().unwrap_err().to_string();
-        assert!(err.contains("analytic") && err.contains("hemicube"), "{err}");
+        assert!(
+            err.contains("analytic") && err.contains("hemicube"),
+            "{err}"
+        );
     }
 
     #[test]

@@ -158,7 +158,12 @@ impl Hemicube {
     #[must_use]
     pub fn view(&self, g: &Geometry, element: usize) -> View {
         let mut scratch = Scratch::default();
-        let eye = self.eye(&g.mesh.element(element).face, g.mesh.element(element).patch, 0, element);
+        let eye = self.eye(
+            &g.mesh.element(element).face,
+            g.mesh.element(element).patch,
+            0,
+            element,
+        );
         self.draw(g, &eye, sources_of(g), &mut scratch, false);
         View {
             layout: self.layout,
@@ -310,7 +315,11 @@ impl Hemicube {
             values.push(exact(id, visible));
         }
         // The hemicube's share of the near items, and the exact one that replaces it.
-        let hemicube: f64 = scratch.near.iter().map(|&id| scratch.acc[id as usize]).sum();
+        let hemicube: f64 = scratch
+            .near
+            .iter()
+            .map(|&id| scratch.acc[id as usize])
+            .sum();
         let replaced: f64 = values.iter().sum();
         let (near_scale, far_scale) = if replaced > 1.0 {
             (1.0 / replaced, 0.0)

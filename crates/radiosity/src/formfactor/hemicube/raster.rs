@@ -229,9 +229,9 @@ pub fn rasterize(
             m.y / polygon.offset,
             m.z / polygon.offset,
         );
-        let (vmin, vmax) = projected
-            .iter()
-            .fold((f32::MAX, f32::MIN), |(lo, hi), p| (lo.min(p.1), hi.max(p.1)));
+        let (vmin, vmax) = projected.iter().fold((f32::MAX, f32::MIN), |(lo, hi), p| {
+            (lo.min(p.1), hi.max(p.1))
+        });
         let first_row = ((vmin - 0.5).ceil().max(0.0)) as u32;
         let last_row = ((vmax - 0.5).floor()).min(rows as f32 - 1.0);
         if last_row < 0.0 {
