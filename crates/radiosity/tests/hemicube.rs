@@ -58,17 +58,17 @@ fn relative(value: f64, exact: f64) -> f64 {
 /// The hemicube at the centre of the bottom face of the unit cube, seeing the top face: one
 /// receiver element, the top split into 16 sources, near-neighbour kernel off (so this is the
 /// bare point-to-polygon hemicube).
-fn point_to_square(resolution: u32, rotate: bool) -> f64 {
+fn point_to_square(resolution: u32, rotation: Option<u64>) -> f64 {
     let p = Prepared::new(
         &testing::parallel_squares(1.0),
-        Subdivision::Elements(17),
-        64,
+        Subdivision::MaxArea(1.5),
+        1,
     );
     let g = p.geometry();
-    assert_eq!(g.mesh.nodes[g.mesh.elements[0] as usize].face.area(), 1.0);
-    let ff = Hemicube::new(resolution, 1, 3)
+    assert_eq!(g.mesh.element_count(), 2);
+    let ff = Hemicube::new(resolution, 1, rotation.unwrap_or(0))
         .with_near(0.0)
-        .with_rotation(rotate);
+        .with_rotation(rotation.is_some());
     let mut row = vec![0.0; g.sources.len()];
     ff.row(&g, 0, &mut row);
     row.iter().map(|&f| f64::from(f)).sum()
@@ -102,29 +102,27 @@ fn delta_form_factors_sum_to_one_and_match_the_midpoint_formula() {
 
 #[test]
 fn point_to_square_within_one_percent_and_error_falls_with_resolution() {
+    // Unrotated, the square's edges fall on cell edges (it spans [−½, ½]² of the top face), so
+    // the error is rounding only; turned by random angles, the edge cells make the error. Its
+    // RMS over 32 angles must fall as the resolution doubles.
     println!("point → opposite unit square at distance 1, exact {POINT}");
-    println!("| resolution | no rotation | error | rotated | error |");
-    println!("|---|---|---|---|---|");
-    let mut errors = Vec::new();
+    println!("| resolution | RMS error over 32 rotations |");
+    println!("|---|---|");
+    let mut rms = Vec::new();
     for resolution in [8, 16, 32, 64, 128, 256] {
-        let plain = point_to_square(resolution, false);
-        let rotated = point_to_square(resolution, true);
-        println!(
-            "| {resolution} | {plain:.7} | {:.3} % | {rotated:.7} | {:.3} % |",
-            100.0 * relative(plain, POINT),
-            100.0 * relative(rotated, POINT)
-        );
-        errors.push((resolution, relative(plain, POINT), relative(rotated, POINT)));
+        let mean_square = (0..32)
+            .map(|seed| relative(point_to_square(resolution, Some(seed)), POINT).powi(2))
+            .sum::<f64>()
+            / 32.0;
+        println!("| {resolution} | {:.4} % |", 100.0 * mean_square.sqrt());
+        rms.push(mean_square.sqrt());
     }
-    let at = |r: u32| *errors.iter().find(|e| e.0 == r).unwrap();
-    let default = point_to_square(DEFAULT_RESOLUTION, true);
-    assert!(relative(default, POINT) < 0.01, "{default}");
-    // The edge cells are the error: it falls at least as 1/resolution (each 8× in resolution
-    // must gain 4×, whatever the luck of a single alignment).
-    for (low, high) in [(8, 64), (16, 128), (32, 256)] {
-        assert!(at(high).1 < at(low).1 / 4.0, "{errors:?}");
-        assert!(at(high).2 < at(low).2 / 4.0, "{errors:?}");
+    assert!(relative(point_to_square(DEFAULT_RESOLUTION, None), POINT) < 1e-6);
+    for k in 0..rms.len() - 1 {
+        assert!(rms[k + 1] < rms[k], "{rms:?}");
     }
+    assert!(rms[5] < 0.01 * rms[0], "{rms:?}");
+    assert!(rms[4] < 0.01, "default resolution: {rms:?}");
 }
 
 #[test]
@@ -139,7 +137,8 @@ fn parallel_squares_within_one_percent_by_rows_and_columns() {
     println!("parallel unit squares 1 apart, exact {PARALLEL}");
     println!("| resolution | rows | error | columns | error |");
     println!("|---|---|---|---|---|");
-    let mut errors = Vec::new();
+    // Beyond 64 the error is that of the receivers' centroid rule (0.24 % at 64 elements per
+    // square), not the hemicube's.
     for resolution in [8, 16, 32, 64, 128, 256] {
         let h = Hemicube::new(resolution, 2, 0);
         let (r, c) = (by_rows(&g, &h, 0, 1), by_columns(&g, &h, 0, 1));
@@ -148,9 +147,7 @@ fn parallel_squares_within_one_percent_by_rows_and_columns() {
             100.0 * relative(r, PARALLEL),
             100.0 * relative(c, PARALLEL)
         );
-        errors.push(relative(r, PARALLEL));
     }
-    assert!(errors[5] < errors[0] / 4.0, "{errors:?}");
     let rows = by_rows(&g, &ff, 0, 1);
     let columns = by_columns(&g, &ff, 0, 1);
     assert!(relative(rows, PARALLEL) < 0.01, "rows {rows}");
@@ -174,8 +171,10 @@ fn perpendicular_squares_within_one_percent_with_near_neighbour_kernel() {
     );
     assert!(relative(rows, PERPENDICULAR) < 0.01, "rows {rows}");
     assert!(relative(columns, PERPENDICULAR) < 0.01, "columns {columns}");
-    // The kernel is what makes it: the bare centroid hemicube is worse at the shared edge.
-    assert!(relative(bare_rows, PERPENDICULAR) > relative(rows, PERPENDICULAR));
+    // One centroid hemicube per element: the near-neighbour kernel keeps it within 1 % too.
+    let single = by_rows(&g, &Hemicube::new(DEFAULT_RESOLUTION, 1, 0), 0, 1);
+    println!("single hemicube per element: {single:.7}");
+    assert!(relative(single, PERPENDICULAR) < 0.01, "{single}");
 }
 
 #[test]
@@ -257,7 +256,8 @@ fn six_faces_of_the_cube_seen_from_its_centre_sum_to_one() {
                         0.0
                     }
                 } else {
-                    beside / 2.0
+                    // Only the half above the probe's horizon, which is all its light.
+                    beside
                 };
                 assert!(
                     (f - expected).abs() < 0.01 * ahead,
@@ -306,7 +306,7 @@ fn view_shows_the_sources_it_sums() {
         32,
     );
     let g = p.geometry();
-    let ff = Hemicube::new(32, 2, 0).with_near(0.0);
+    let ff = Hemicube::new(32, 1, 0).with_near(0.0);
     let view = ff.view(&g, 0);
     let mut sums = vec![0.0; g.sources.len()];
     for (&item, &d) in view.items.iter().zip(&view.deltas) {
@@ -325,11 +325,14 @@ fn view_shows_the_sources_it_sums() {
 #[test]
 fn cornell_box_agrees_with_ray_casting_per_object() {
     let scene = || builtin::load("cornell").unwrap().unwrap();
-    let solve = |method: Method| {
+    let solve = |method: Method, quadrature: u32, rays: u32, hemicube_resolution: u32| {
         let settings = Settings {
             subdivision: Subdivision::Elements(1024),
             form_factors: formfactor::Settings {
                 method,
+                quadrature,
+                rays,
+                hemicube_resolution,
                 ..formfactor::Settings::default()
             },
             ..Settings::default()
@@ -339,14 +342,75 @@ fn cornell_box_agrees_with_ray_casting_per_object() {
             .stats(&Timings::default())
             .objects
     };
-    let (hemicube, raycast) = (solve(Method::Hemicube), solve(Method::RayCast));
+    let (hemicube, raycast) = (
+        solve(Method::Hemicube, 2, 16, 128),
+        solve(Method::RayCast, 2, 16, 128),
+    );
     for (h, r) in hemicube.iter().zip(&raycast) {
         assert_eq!(h.name, r.name);
         for c in 0..3 {
             let error = relative(h.radiosity[c], r.radiosity[c]);
             println!("{} channel {c}: {:.3} %", h.name, 100.0 * error);
-            // The ray-cast reference is itself within ~0.2 % (formfactor::Settings::default).
+            // Two independent estimators of the same integrals: the hemicube's cells against
+            // kernel-weighted shadow rays. Measured: within 0.2 % per object at 1024 elements.
+            // Tolerance 1 % (the bound).
             assert!(error < 0.01, "{} channel {c}: {h:?} vs {r:?}", h.name);
+        }
+    }
+}
+
+/// From one point, the hemicube is exact up to its cells: on the Cornell box, an element's
+/// single centroid hemicube sees each patch with the form factor that cosine-distributed rays
+/// from the centroid find.
+#[test]
+fn centroid_hemicube_matches_brute_force_rays_on_cornell_box() {
+    use radiosity::accel::Ray;
+    let scene = builtin::load("cornell").unwrap().unwrap();
+    let p = Prepared::new(&scene, Subdivision::Elements(1024), 1024);
+    let g = p.geometry();
+    let h = Hemicube::new(DEFAULT_RESOLUTION, 1, 0).with_near(0.0);
+    let patches = g.mesh.patches.len();
+    for e in (0..g.mesh.element_count()).step_by(97) {
+        let mut row = vec![0.0; g.sources.len()];
+        h.row(&g, e, &mut row);
+        let mut hemicube = vec![0.0; patches];
+        for (s, &f) in row.iter().enumerate() {
+            hemicube[g.source_patch(s) as usize] += f64::from(f);
+        }
+        // 400² stratified cosine-distributed directions from just above the centroid.
+        let face = &g.mesh.element(e).face;
+        let n = face.normal();
+        let (u, v) = n.any_orthonormal_pair();
+        let origin = face.centroid() + n * 0.01;
+        let m = 400;
+        let mut rays = vec![0.0; patches];
+        for i in 0..m {
+            for j in 0..m {
+                let (r1, r2) = ((i as f32 + 0.5) / m as f32, (j as f32 + 0.5) / m as f32);
+                let (r, phi) = (r1.sqrt(), std::f32::consts::TAU * r2);
+                let d = u * (r * phi.cos()) + v * (r * phi.sin()) + n * (1.0 - r1).sqrt();
+                if let Some(hit) = g.bvh.closest_hit(&Ray::new(origin, d), f32::MAX) {
+                    let polygon = g.mesh.triangle_polygon[hit.triangle as usize];
+                    // The patch of that polygon that faces the ray's origin.
+                    let patch = (0..patches).find(|&q| {
+                        let pa = &g.mesh.patches[q];
+                        pa.polygon == polygon && pa.normal.dot(d) < 0.0
+                    });
+                    if let Some(q) = patch {
+                        rays[q] += 1.0 / f64::from(m * m);
+                    }
+                }
+            }
+        }
+        for q in 0..patches {
+            // Tolerance: the edge cells of the hemicube (~0.3 % of a large patch at 128) and
+            // the rays' stratified noise (~1e-4), with a floor for tiny patches.
+            assert!(
+                (hemicube[q] - rays[q]).abs() < 0.01 * rays[q] + 2e-3,
+                "element {e} patch {q}: hemicube {} rays {}",
+                hemicube[q],
+                rays[q]
+            );
         }
     }
 }

