@@ -21,10 +21,93 @@ pub enum Command {
     Render(RenderArgs),
     /// Solve a scene without rendering an image (use --export and --stats).
     Solve(SolveArgs),
+    /// Render local illumination, radiosity (and ray tracing when the scene has mirrors or
+    /// glass) side by side in one labelled image.
+    Compare(CompareArgs),
     /// List the built-in scenes.
     Scenes,
+    /// Describe a scene without solving it: counts, area, emitted power, bounds, warnings.
+    Info(InfoArgs),
     /// Measure the ray throughput of the visibility hierarchy (BVH).
     Bench(BenchArgs),
+    /// Draw one element's hemicube, unfolded, coloured by the source each cell sees.
+    Hemicube(HemicubeArgs),
+    /// Draw a Bézier curve with its control polygon and de Casteljau construction (or a
+    /// B-spline) as SVG.
+    Curve(CurveArgs),
+}
+
+/// `radiosity curve`.
+#[derive(Debug, Args)]
+pub struct CurveArgs {
+    /// Control points as `x,y x,y …` (at least one).
+    #[arg(long, value_name = "POINTS")]
+    pub points: String,
+    /// The parameter of the de Casteljau construction, in [0, 1].
+    #[arg(long, default_value_t = 0.5)]
+    pub t: f64,
+    /// Draw the clamped uniform B-spline of this degree instead of the Bézier curve.
+    #[arg(long, value_name = "DEGREE")]
+    pub bspline: Option<u32>,
+    /// The picture (.svg).
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "PATH",
+        default_value = "curve.svg"
+    )]
+    pub output: PathBuf,
+}
+
+/// `radiosity hemicube`.
+#[derive(Debug, Args)]
+pub struct HemicubeArgs {
+    /// Scene file (.toml, .obj) or built-in scene name (see `radiosity scenes`).
+    pub scene: String,
+    /// The element whose hemicube to draw (0 to elements − 1).
+    #[arg(long, value_name = "ID")]
+    pub element: u64,
+    /// The picture (.png).
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "PATH",
+        default_value = "hemicube.png"
+    )]
+    pub output: PathBuf,
+    /// Cells along a full edge of the hemicube.
+    #[arg(long, value_name = "N", default_value_t = 32,
+          value_parser = clap::value_parser!(u32).range(2..=4096))]
+    pub resolution: u32,
+    /// Colour the cells by their delta form factors instead of by what they see.
+    #[arg(long)]
+    pub heatmap: bool,
+    /// Turn the hemicube about the normal by its random angle, as the solver does.
+    #[arg(long)]
+    pub rotate: bool,
+    /// Seed of the rotation.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Subdivide into about N elements in total.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub elements: Option<u64>,
+    /// Most light sources (quadtree nodes the hemicube sees).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub sources: Option<u64>,
+}
+
+/// `radiosity info`.
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    /// Scene file (.toml, .obj, .gltf, .glb) or built-in scene name (see `radiosity scenes`).
+    pub scene: String,
+    /// Count the elements of a subdivision into about N elements.
+    #[arg(long, value_name = "N", conflicts_with = "max_element_area",
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub elements: Option<u64>,
+    /// Count the elements of a subdivision to at most A (scene units²) each.
+    #[arg(long, value_name = "A", value_parser = positive_f64)]
+    pub max_element_area: Option<f64>,
 }
 
 /// `radiosity render`.
@@ -56,6 +139,49 @@ pub struct RenderArgs {
     /// Rendering mode.
     #[arg(long, value_enum, default_value_t = Mode::Radiosity)]
     pub mode: Mode,
+    /// With --mode raytrace: final-gather N rays per pixel at the first diffuse hit, plus
+    /// sampled direct light (removes the meshing artefacts; 0 reads the lit mesh).
+    #[arg(long, value_name = "N", default_value_t = 0,
+          value_parser = clap::value_parser!(u32).range(0..=4096))]
+    pub gather: u32,
+    /// Options shared with `solve`.
+    #[command(flatten)]
+    pub common: CommonArgs,
+}
+
+/// `radiosity compare`.
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// Scene file (.toml, .obj) or built-in scene name (see `radiosity scenes`).
+    #[arg(default_value = "cornell-spheres")]
+    pub scene: String,
+    /// The side-by-side image to write (.png, .exr, .hdr, .pfm).
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "PATH",
+        default_value = "compare.png"
+    )]
+    pub output: PathBuf,
+    /// Width of each panel in pixels (default: the scene's [render] width).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_384))]
+    pub width: Option<u32>,
+    /// Height of each panel in pixels (default: the scene's [render] height).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_384))]
+    pub height: Option<u32>,
+    /// Camera to render from, by name (default: the scene's first camera).
+    #[arg(long, value_name = "NAME")]
+    pub camera: Option<String>,
+    /// Antialiasing samples per pixel, taken as an s×s grid (1, 4, 9, ... 64).
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub samples: u32,
+    /// Exposure in stops (default: automatic, from the radiosity panel; all panels share it).
+    #[arg(long, value_name = "STOPS", allow_negative_numbers = true, value_parser = finite_f32)]
+    pub exposure: Option<f32>,
+    /// Final-gather rays of the ray-traced panel (see `render --gather`).
+    #[arg(long, value_name = "N", default_value_t = 0,
+          value_parser = clap::value_parser!(u32).range(0..=4096))]
+    pub gather: u32,
     /// Options shared with `solve`.
     #[command(flatten)]
     pub common: CommonArgs,
@@ -77,10 +203,18 @@ pub struct CommonArgs {
     /// Write statistics (counts, timings, energy, per-object radiosity) as JSON.
     #[arg(long, value_name = "PATH")]
     pub stats: Option<PathBuf>,
-    /// Export the lit mesh: .ply (float radiosity and 8-bit colours per vertex) or .glb (glTF
-    /// with COLOR_0).
+    /// Plot the residual against iteration and time (.svg).
+    #[arg(long, value_name = "PATH")]
+    pub plot: Option<PathBuf>,
+    /// Export the lit mesh: .ply (float radiosity and 8-bit colours per vertex), .glb (glTF
+    /// with COLOR_0) or .html (a self-contained WebGL2 viewer).
     #[arg(long, value_name = "PATH")]
     pub export: Option<PathBuf>,
+    /// Colours of the export: `auto` (radiance exposed automatically, clamped to [0, 1]),
+    /// STOPS (radiance × 2^STOPS, clamped), or `linear` (.glb: radiance B/π unclamped).
+    #[arg(long, value_name = "auto|linear|STOPS", default_value = "auto",
+          allow_negative_numbers = true, value_parser = parse_export_colours)]
+    pub export_exposure: ExportColours,
     /// Solver of the radiosity equation.
     #[arg(long, value_enum, default_value_t = Solver::Auto)]
     pub solver: Solver,
@@ -98,9 +232,20 @@ pub struct CommonArgs {
     /// (substructuring). Sources are the elements themselves when there are fewer elements.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     pub sources: Option<u64>,
+    /// Cells along a full edge of a hemicube (hemicube form factors).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(2..=4096))]
+    pub hemicube_resolution: Option<u32>,
     /// Shadow rays per element–source pair (ray-cast form factors).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub rays: Option<u32>,
+    /// Hierarchical solver: refine a link while it moves more than this fraction of the emitted
+    /// power (default 1e-4; smaller is finer and slower).
+    #[arg(long, value_parser = positive_f64)]
+    pub epsilon: Option<f64>,
+    /// Hierarchical solver: smallest element area refinement may create (scene units²;
+    /// default a millionth of the total area).
+    #[arg(long, value_name = "A", value_parser = positive_f64)]
+    pub min_element_area: Option<f64>,
     /// Stop iterating when the residual falls below this (relative).
     #[arg(long, value_parser = positive_f64)]
     pub tolerance: Option<f64>,
@@ -168,6 +313,9 @@ pub enum Solver {
     GaussSeidel,
     /// Progressive refinement (shooting).
     Progressive,
+    /// Hierarchical radiosity with clustering; refines the elements on demand (`--epsilon`,
+    /// `--min-element-area`).
+    Hierarchical,
     /// Chosen from the scene's size and the memory budget.
     Auto,
 }
@@ -179,6 +327,30 @@ pub enum FormFactors {
     Analytic,
     /// Lambert's closed form times a ray-cast visibility fraction.
     Raycast,
+    /// Item-buffer hemicubes (Cohen & Greenberg 1985).
+    Hemicube,
+}
+
+/// `--export-exposure`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ExportColours {
+    /// The automatic exposure.
+    Auto,
+    /// Radiance × 2^stops.
+    Stops(f32),
+    /// Radiance unscaled (.glb; the viewer starts at the automatic exposure).
+    Linear,
+}
+
+/// `auto`, `linear` or a finite number of stops.
+fn parse_export_colours(s: &str) -> Result<ExportColours, String> {
+    match s.trim().to_ascii_lowercase().as_str() {
+        "auto" => Ok(ExportColours::Auto),
+        "linear" => Ok(ExportColours::Linear),
+        _ => finite_f32(s)
+            .map(ExportColours::Stops)
+            .map_err(|_| format!("`{s}` is not `auto`, `linear` or a number of stops")),
+    }
 }
 
 /// A finite floating-point number.

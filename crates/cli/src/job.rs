@@ -11,30 +11,31 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use radiosity::io::atomic::write_atomic;
-use radiosity::io::gltf::write_glb;
+use radiosity::io::gltf::{write_glb, VertexColours};
+use radiosity::io::html;
 use radiosity::io::image_file::write_image;
 use radiosity::io::ply::write_ply;
 use radiosity::pipeline::{self, Solved};
-use radiosity::render::{self, tonemap, RasterSettings};
+use radiosity::plot::write_convergence_svg;
+use radiosity::render::{tonemap, RasterSettings};
 use radiosity::scene::Camera;
 use radiosity::stats::Timings;
 use radiosity::Scene;
 
-use crate::args::{CommonArgs, Mode, RenderArgs, SolveArgs};
+use crate::args::{CommonArgs, ExportColours, Mode, RenderArgs, SolveArgs};
 use crate::bars::Bars;
+use crate::compare;
 use crate::settings;
 
 /// Image extensions `--output` accepts.
-const IMAGE_EXTENSIONS: [&str; 4] = ["png", "exr", "hdr", "pfm"];
+pub(crate) const IMAGE_EXTENSIONS: [&str; 4] = ["png", "exr", "hdr", "pfm"];
 /// Bytes per pixel of a rendered radiance image (three f64).
 const IMAGE_BYTES_PER_PIXEL: u64 = 24;
 
 /// `radiosity render`.
 pub fn render(args: &RenderArgs) -> Result<()> {
-    match args.mode {
-        Mode::Radiosity => {}
-        Mode::Local => bail!("--mode local is not available yet"),
-        Mode::Raytrace => bail!("--mode raytrace is not available yet"),
+    if args.gather > 0 && args.mode != Mode::Raytrace {
+        bail!("--gather applies to --mode raytrace only");
     }
     for path in &args.outputs {
         check_output(path, "image", &IMAGE_EXTENSIONS)?;
@@ -55,7 +56,10 @@ pub fn solve(args: &SolveArgs) -> Result<()> {
 }
 
 /// Runs `job` in a rayon pool of `threads` workers, or in the global pool.
-fn in_pool<T: Send>(threads: Option<u64>, job: impl FnOnce() -> Result<T> + Send) -> Result<T> {
+pub(crate) fn in_pool<T: Send>(
+    threads: Option<u64>,
+    job: impl FnOnce() -> Result<T> + Send,
+) -> Result<T> {
     match threads {
         None => job(),
         Some(n) => rayon::ThreadPoolBuilder::new()
@@ -97,7 +101,7 @@ fn render_job(args: &RenderArgs) -> Result<()> {
     let solved = run_solve(scene, common)?;
 
     let render_start = Instant::now();
-    let image = render::render(&solved.lit, &camera, &raster);
+    let image = compare::render_mode(&solved, &camera, args.mode, &raster, args.gather);
     let exposure = args
         .exposure
         .unwrap_or_else(|| tonemap::auto_exposure(&image));
@@ -110,7 +114,7 @@ fn render_job(args: &RenderArgs) -> Result<()> {
 }
 
 /// Loads the scene and prints its warnings; returns it with the seconds it took.
-fn load(arg: &str, common: &CommonArgs) -> Result<(Scene, f64)> {
+pub(crate) fn load(arg: &str, common: &CommonArgs) -> Result<(Scene, f64)> {
     let start = Instant::now();
     let scene = Scene::resolve(arg)?;
     for warning in &scene.warnings {
@@ -120,7 +124,7 @@ fn load(arg: &str, common: &CommonArgs) -> Result<(Scene, f64)> {
 }
 
 /// The camera named `name`, or the scene's first.
-fn pick_camera<'a>(scene: &'a Scene, name: Option<&str>) -> Result<&'a Camera> {
+pub(crate) fn pick_camera<'a>(scene: &'a Scene, name: Option<&str>) -> Result<&'a Camera> {
     let Some(name) = name else {
         return scene
             .cameras
@@ -138,14 +142,14 @@ fn pick_camera<'a>(scene: &'a Scene, name: Option<&str>) -> Result<&'a Camera> {
 }
 
 /// Meshes, computes form factors and solves, with progress bars when stderr is a terminal.
-fn run_solve(scene: Scene, common: &CommonArgs) -> Result<Solved> {
+pub(crate) fn run_solve(scene: Scene, common: &CommonArgs) -> Result<Solved> {
     let settings = settings::pipeline_settings(common);
     let bars = Bars::new(!common.quiet && std::io::stderr().is_terminal());
     Ok(pipeline::solve(scene, &settings, &bars)?)
 }
 
 /// Writes the export and the stats of a finished job.
-fn finish(
+pub(crate) fn finish(
     solved: &Solved,
     common: &CommonArgs,
     start: Instant,
@@ -159,10 +163,11 @@ fn finish(
             .iter()
             .map(|o| o.name.clone())
             .collect();
-        let written = if extension(path) == "glb" {
-            write_glb(path, &solved.lit, &names)
-        } else {
-            write_ply(path, &solved.lit, &names)
+        let colours = common.export_exposure;
+        let written = match extension(path).as_str() {
+            "glb" => write_glb(path, &solved.lit, &names, glb_colours(colours)),
+            "html" => html::write_solved(path, solved, html_exposure(colours)),
+            _ => write_ply(path, &solved.lit, &names),
         };
         written.with_context(|| format!("{}: cannot write", path.display()))?;
         say(common, &format!("wrote {}", path.display()));
@@ -173,6 +178,12 @@ fn finish(
         total: start.elapsed().as_secs_f64(),
         ..Timings::default()
     });
+    if let Some(path) = &common.plot {
+        let history = &solved.solution.history;
+        write_convergence_svg(path, &solved.scene.name, history)
+            .with_context(|| format!("{}: cannot write", path.display()))?;
+        say(common, &format!("wrote {}", path.display()));
+    }
     if let Some(path) = &common.stats {
         let mut json = serde_json::to_vec_pretty(&stats)?;
         json.push(b'\n');
@@ -197,19 +208,39 @@ fn finish(
     Ok(())
 }
 
+/// The `.glb` vertex colours `--export-exposure` asks for.
+fn glb_colours(colours: ExportColours) -> VertexColours {
+    match colours {
+        ExportColours::Auto => VertexColours::AutoExposure,
+        ExportColours::Stops(stops) => VertexColours::Exposure(stops),
+        ExportColours::Linear => VertexColours::Linear,
+    }
+}
+
+/// The viewer's initial exposure `--export-exposure` asks for (`None`: automatic).
+fn html_exposure(colours: ExportColours) -> Option<f32> {
+    match colours {
+        ExportColours::Stops(stops) => Some(stops),
+        ExportColours::Auto | ExportColours::Linear => None,
+    }
+}
+
 /// Checks the `--stats` and `--export` paths.
-fn check_common_outputs(common: &CommonArgs) -> Result<()> {
+pub(crate) fn check_common_outputs(common: &CommonArgs) -> Result<()> {
     if let Some(path) = &common.stats {
         check_directory(path)?;
     }
+    if let Some(path) = &common.plot {
+        check_output(path, "plot", &["svg"])?;
+    }
     if let Some(path) = &common.export {
-        check_output(path, "export", &["ply", "glb"])?;
+        check_output(path, "export", &["ply", "glb", "html"])?;
     }
     Ok(())
 }
 
 /// Checks that `path` has one of the `allowed` extensions and that its directory exists.
-fn check_output(path: &Path, what: &str, allowed: &[&str]) -> Result<()> {
+pub(crate) fn check_output(path: &Path, what: &str, allowed: &[&str]) -> Result<()> {
     let extension = extension(path);
     if !allowed.contains(&extension.as_str()) {
         let list: Vec<String> = allowed.iter().map(|e| format!(".{e}")).collect();
@@ -250,7 +281,7 @@ fn extension(path: &Path) -> String {
 }
 
 /// A message on stderr unless `--quiet`.
-fn say(common: &CommonArgs, message: &str) {
+pub(crate) fn say(common: &CommonArgs, message: &str) {
     if !common.quiet {
         let _ = writeln!(std::io::stderr(), "{message}");
     }

@@ -3,8 +3,13 @@
 //! ```text
 //! radiosity render [SCENE] [-o out.png]... [--stats stats.json] [--export lit.ply]
 //! radiosity solve SCENE --export lit.ply --stats stats.json
+//! radiosity render SCENE --mode local|radiosity|raytrace [--gather N]
+//! radiosity compare SCENE -o compare.png
 //! radiosity scenes
 //! radiosity bench
+//! radiosity hemicube SCENE --element ID -o hemicube.png [--resolution N] [--heatmap]
+//! radiosity info SCENE
+//! radiosity solve SCENE --export scene.html --plot convergence.svg
 //! ```
 //!
 //! Every failure prints one line `error: <cause>` on stderr (naming the file, line and key when
@@ -15,6 +20,10 @@
 mod args;
 mod bars;
 mod bench;
+mod compare;
+mod curve;
+mod hemicube;
+mod info;
 mod job;
 mod settings;
 
@@ -43,8 +52,12 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => job::render(&args),
         Command::Solve(args) => job::solve(&args),
+        Command::Compare(args) => compare::run(&args),
         Command::Scenes => list_scenes(),
+        Command::Info(args) => info::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Hemicube(args) => hemicube::run(&args),
+        Command::Curve(args) => curve::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

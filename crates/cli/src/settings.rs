@@ -23,10 +23,14 @@ pub fn pipeline_settings(common: &CommonArgs) -> pipeline::Settings {
         settings.form_factors.method = match method {
             FormFactors::Analytic => formfactor::Method::Analytic,
             FormFactors::Raycast => formfactor::Method::RayCast,
+            FormFactors::Hemicube => formfactor::Method::Hemicube,
         };
     }
     if let Some(n) = common.sources {
         settings.solve.max_sources = usize::try_from(n).unwrap_or(usize::MAX);
+    }
+    if let Some(n) = common.hemicube_resolution {
+        settings.form_factors.hemicube_resolution = n;
     }
     if let Some(rays) = common.rays {
         settings.form_factors.rays = rays;
@@ -38,8 +42,15 @@ pub fn pipeline_settings(common: &CommonArgs) -> pipeline::Settings {
         Solver::Jacobi => Some(solve::Method::Jacobi),
         Solver::GaussSeidel => Some(solve::Method::GaussSeidel),
         Solver::Progressive => Some(solve::Method::Progressive),
+        Solver::Hierarchical => Some(solve::Method::Hierarchical),
         Solver::Auto => None,
     };
+    if let Some(epsilon) = common.epsilon {
+        settings.solve.epsilon = epsilon;
+    }
+    if let Some(area) = common.min_element_area {
+        settings.solve.min_element_area = area;
+    }
     if let Some(tolerance) = common.tolerance {
         settings.solve.tolerance = tolerance;
     }

@@ -8,8 +8,15 @@
 //! right-hand rule on its vertex order points (counter-clockwise seen from the front).
 #![forbid(unsafe_code)]
 
+pub mod brep;
+pub mod csg;
+pub mod curve;
+pub mod implicit;
 pub mod polymesh;
 pub mod primitives;
+pub mod spatial;
+pub mod surface;
+pub mod teapot;
 pub mod transform;
 
 pub use polymesh::PolyMesh;

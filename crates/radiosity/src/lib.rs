@@ -25,6 +25,7 @@ pub mod formfactor;
 pub mod io;
 pub mod mesh;
 pub mod pipeline;
+pub mod plot;
 pub mod progress;
 pub mod render;
 pub mod scene;

@@ -7,7 +7,8 @@
 //!                "render": 0.2, "total": 1.5 },
 //!   "energy": { "emitted": [r, g, b], "absorbed": [r, g, b] },
 //!   "objects": [ { "name": "floor", "area": 309.4e3, "radiosity": [r, g, b] } ],
-//!   "materials": [ { "name": "white", "area": ..., "radiosity": [r, g, b] } ] }
+//!   "materials": [ { "name": "white", "area": ..., "radiosity": [r, g, b] } ],
+//!   "hierarchy": { "links": 52000, "levels": 7, "clusters": 15, "peak_memory_bytes": 4e6 } }
 //! ```
 //!
 //! Units: seconds; watts per channel when lengths are metres (scene units² × W·m⁻² in general);
@@ -37,6 +38,22 @@ pub struct Stats {
     pub objects: Vec<Aggregate>,
     /// Per material name.
     pub materials: Vec<Aggregate>,
+    /// The hierarchical solver's figures (only when it ran).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hierarchy: Option<HierarchyStats>,
+}
+
+/// What the hierarchical solver built.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct HierarchyStats {
+    /// Links at the end.
+    pub links: u64,
+    /// Quadtree levels of the deepest element (1: unsplit root faces).
+    pub levels: u32,
+    /// Clusters above the root faces.
+    pub clusters: usize,
+    /// Peak bytes held by nodes, clusters and links (counted from the structures).
+    pub peak_memory_bytes: u64,
 }
 
 /// Solver summary.

@@ -9,9 +9,11 @@
 //! triangles left out), all sharing three vertex accessors:
 //!
 //! - `POSITION`: float VEC3, scene units, with its bounds as the specification requires;
-//! - `COLOR_0`: float VEC3, the vertex radiance L = B/π scaled by the automatic exposure
-//!   ([`auto_exposure`](crate::render::tonemap::auto_exposure), Reinhard et al. 2002) and
-//!   clamped to [0, 1]. glTF colours are linear; viewers apply the sRGB encoding themselves;
+//! - `COLOR_0`: float VEC3, the vertex radiance L = B/π, chosen by [`VertexColours`]: exposed
+//!   (by a given exposure or the automatic one,
+//!   [`auto_exposure`](crate::render::tonemap::auto_exposure), Reinhard et al. 2002) and
+//!   clamped to [0, 1], or linear, scaled so that the brightest vertex is 1. glTF colours are linear; viewers apply the sRGB
+//!   encoding themselves;
 //! - `_RADIOSITY`: float VEC3, radiosity B in W·m⁻² (linear, unscaled) — an application-specific
 //!   attribute (leading underscore), ignored by viewers, for tools that want the physics.
 //!
@@ -40,19 +42,76 @@ const ARRAY_BUFFER: u32 = 34962;
 /// glTF buffer-view target of indices.
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 
+/// What `COLOR_0` holds.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum VertexColours {
+    /// Radiance exposed by the automatic exposure, clamped to [0, 1] (the default).
+    #[default]
+    AutoExposure,
+    /// Radiance × 2^stops, clamped to [0, 1].
+    Exposure(f32),
+    /// Radiance L = B/π divided by the largest channel of any vertex, so the brightest is 1:
+    /// linear, not tone-mapped, nothing clipped (glTF requires colours in [0, 1]). The
+    /// absolute values are in `_RADIOSITY`.
+    Linear,
+}
+
+/// The `COLOR_0` values of `lit`'s vertices under `mode`.
+#[must_use]
+pub fn vertex_colours(lit: &LitMesh, mode: VertexColours) -> Vec<Vec3> {
+    let radiance = Image {
+        width: lit.positions.len() as u32,
+        height: 1,
+        pixels: (0..lit.positions.len())
+            .map(|i| lit.radiosity.get(i).copied().unwrap_or_default() / PI)
+            .collect(),
+    };
+    let scale = match mode {
+        VertexColours::AutoExposure => exposure_scale(auto_exposure(&radiance)),
+        VertexColours::Exposure(stops) => exposure_scale(stops),
+        VertexColours::Linear => {
+            let max = radiance
+                .pixels
+                .iter()
+                .map(|l| l.max_element())
+                .filter(|m| m.is_finite())
+                .fold(0.0, f64::max);
+            if max > 0.0 {
+                1.0 / max
+            } else {
+                1.0
+            }
+        }
+    };
+    radiance
+        .pixels
+        .iter()
+        .map(|&l| {
+            (l * scale)
+                .clamp(glam::DVec3::ZERO, glam::DVec3::ONE)
+                .as_vec3()
+        })
+        .collect()
+}
+
 /// Writes `lit` as a binary glTF file at `path` (atomically). `object_names[i]` names the
 /// triangles whose object index is `i`; triangles of unnamed objects are grouped as `object i`.
 ///
 /// # Errors
 /// I/O errors, and `InvalidInput` when a triangle refers to a missing vertex or the file would
 /// exceed the 4 GiB that GLB lengths can describe.
-pub fn write_glb(path: &Path, lit: &LitMesh, object_names: &[String]) -> io::Result<()> {
-    let bytes = encode(lit, object_names)?;
+pub fn write_glb(
+    path: &Path,
+    lit: &LitMesh,
+    object_names: &[String],
+    colours: VertexColours,
+) -> io::Result<()> {
+    let bytes = encode(lit, object_names, colours)?;
     write_atomic(path, |w| w.write_all(&bytes))
 }
 
 /// The whole `.glb` file in memory.
-fn encode(lit: &LitMesh, object_names: &[String]) -> io::Result<Vec<u8>> {
+fn encode(lit: &LitMesh, object_names: &[String], mode: VertexColours) -> io::Result<Vec<u8>> {
     let invalid = |m: &str| io::Error::new(io::ErrorKind::InvalidInput, m.to_string());
     let n = lit.positions.len();
     if lit.triangles.iter().flatten().any(|&v| v as usize >= n) {
@@ -76,24 +135,8 @@ fn encode(lit: &LitMesh, object_names: &[String]) -> io::Result<Vec<u8>> {
     let mut meshes = Vec::new();
     let mut nodes = Vec::new();
     if n > 0 && !lit.triangles.is_empty() {
-        let radiance = Image {
-            width: n as u32,
-            height: 1,
-            pixels: (0..n)
-                .map(|i| lit.radiosity.get(i).copied().unwrap_or_default() / PI)
-                .collect(),
-        };
-        let scale = exposure_scale(auto_exposure(&radiance));
         let radiosity = |i: usize| lit.radiosity.get(i).copied().unwrap_or_default();
-        let colours: Vec<Vec3> = radiance
-            .pixels
-            .iter()
-            .map(|&l| {
-                (l * scale)
-                    .clamp(glam::DVec3::ZERO, glam::DVec3::ONE)
-                    .as_vec3()
-            })
-            .collect();
+        let colours = vertex_colours(lit, mode);
         let b: Vec<Vec3> = (0..n).map(|i| radiosity(i).as_vec3()).collect();
         let (lo, hi) = lit.positions.iter().fold(
             (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
@@ -258,7 +301,8 @@ mod tests {
     #[test]
     fn framing_accessors_and_object_meshes_are_consistent() {
         let names = vec!["floor".to_string(), "wall".to_string()];
-        let (doc, bin) = parse(&encode(&square(), &names).expect("encode"));
+        let (doc, bin) =
+            parse(&encode(&square(), &names, VertexColours::AutoExposure).expect("encode"));
         assert_eq!(
             doc["buffers"][0]["byteLength"].as_u64(),
             Some(bin.len() as u64)
@@ -300,7 +344,8 @@ mod tests {
 
     #[test]
     fn empty_mesh_is_a_valid_empty_scene() {
-        let (doc, bin) = parse(&encode(&LitMesh::default(), &[]).expect("encode"));
+        let (doc, bin) =
+            parse(&encode(&LitMesh::default(), &[], VertexColours::AutoExposure).expect("encode"));
         assert!(bin.is_empty());
         assert_eq!(doc["nodes"], json!([]));
         assert!(doc.get("accessors").is_none());
@@ -311,7 +356,9 @@ mod tests {
         let mut lit = square();
         lit.triangles[0][1] = 7;
         assert_eq!(
-            encode(&lit, &[]).map_err(|e| e.kind()).err(),
+            encode(&lit, &[], VertexColours::Linear)
+                .map_err(|e| e.kind())
+                .err(),
             Some(io::ErrorKind::InvalidInput)
         );
     }

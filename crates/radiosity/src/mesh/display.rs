@@ -1,9 +1,11 @@
 //! The display mesh: from constant radiosity per element to smooth radiosity per vertex.
 //!
 //! A solve gives one radiosity per element; a renderer wants values at vertices to interpolate
-//! (Gouraud). Each vertex takes the area-weighted mean of the elements that have it as a corner,
-//! over all patches of the same *surface* (same object, same side, same plane), so a wall cut into
-//! several polygons still shades smoothly, while creases (a wall meeting the floor) stay sharp.
+//! (Gouraud). Each vertex takes the area-weighted mean of the elements that have it as a corner
+//! and belong to the same object and side, with normals within a smoothing angle of its own: a
+//! wall cut into several polygons, or a tessellated curved surface, shades smoothly, while
+//! creases (a wall meeting the floor) stay sharp. Vertices themselves are shared within a
+//! *surface* (same object, side and plane), where the T-vertex search below runs.
 //!
 //! Where neighbouring elements differ in quadtree level, the finer side has a vertex in the
 //! middle of the coarser element's edge: a T-vertex. Drawing the coarse element as two plain
@@ -20,6 +22,11 @@ use glam::{DVec3, IVec3, Vec3};
 use super::{LitMesh, Mesh};
 use crate::Rgb;
 
+/// Surfaces of one object meeting at less than this angle share vertex radiosity (a smoothing
+/// angle, as in modelling packages): the facets of a tessellated sphere or teapot shade
+/// smoothly, while a box's 90° edges stay sharp.
+const SMOOTHING_ANGLE_DEG: f32 = 40.0;
+
 /// Deepest midpoint search along an edge (far beyond any level difference the quadtrees reach).
 const MAX_EDGE_DEPTH: u32 = 16;
 
@@ -33,30 +40,52 @@ pub fn lit_mesh(mesh: &Mesh, radiosity: &[Rgb]) -> LitMesh {
     let key = VertexKey::new(mesh);
     let surfaces = surfaces(mesh);
 
-    // Vertices: one per (surface, position), radiosity accumulated area-weighted.
+    // Vertices: one per (surface, position). Every element corner also records its area,
+    // area-weighted radiosity and normal under (object, side, position), so that a vertex can
+    // average over the elements of neighbouring surfaces that meet it smoothly.
     let mut index: HashMap<(u32, IVec3), u32> = HashMap::new();
+    let mut around: HashMap<(u32, bool, IVec3), Vec<(Vec3, f64, DVec3)>> = HashMap::new();
     let mut lit = LitMesh::default();
-    let mut weight: Vec<f64> = Vec::new();
-    let mut sum: Vec<DVec3> = Vec::new();
+    let mut vertex_normal: Vec<Vec3> = Vec::new();
+    let mut vertex_place: Vec<(u32, bool, IVec3)> = Vec::new();
     for (e, &n) in mesh.elements.iter().enumerate() {
         let node = &mesh.nodes[n as usize];
+        let patch = &mesh.patches[node.patch as usize];
         let surface = surfaces[node.patch as usize];
         let area = node.face.area();
         for &p in node.face.corners() {
-            let v = *index.entry((surface, key.of(p))).or_insert_with(|| {
+            let k = key.of(p);
+            let place = (patch.object, patch.back, k);
+            index.entry((surface, k)).or_insert_with(|| {
                 lit.positions.push(p);
-                weight.push(0.0);
-                sum.push(DVec3::ZERO);
+                vertex_normal.push(patch.normal);
+                vertex_place.push(place);
                 lit.positions.len() as u32 - 1
             });
-            weight[v as usize] += area;
-            sum[v as usize] += area * radiosity[e];
+            around
+                .entry(place)
+                .or_default()
+                .push((patch.normal, area, area * radiosity[e]));
         }
     }
-    lit.radiosity = sum
+    let smooth = SMOOTHING_ANGLE_DEG.to_radians().cos();
+    lit.radiosity = vertex_place
         .iter()
-        .zip(&weight)
-        .map(|(&s, &w)| if w > 0.0 { s / w } else { Rgb::ZERO })
+        .zip(&vertex_normal)
+        .map(|(place, &normal)| {
+            let (mut weight, mut sum) = (0.0, DVec3::ZERO);
+            for &(n, area, power) in &around[place] {
+                if n.dot(normal) >= smooth {
+                    weight += area;
+                    sum += power;
+                }
+            }
+            if weight > 0.0 {
+                sum / weight
+            } else {
+                Rgb::ZERO
+            }
+        })
         .collect();
 
     // Triangles: each element, with the T-vertices found on its edges.
@@ -259,6 +288,68 @@ mod tests {
             .collect();
         let lit = lit_mesh(&mesh, &b);
         assert_watertight(&lit);
+    }
+
+    /// Two unit squares of one object hinged along the y axis, the second tilted by `angle_deg`.
+    fn hinge(angle_deg: f32) -> Scene {
+        let (s, c) = angle_deg.to_radians().sin_cos();
+        let square = |vertices: Vec<Vec3>| Polygon {
+            vertices,
+            material: 0,
+            object: 0,
+        };
+        Scene {
+            materials: vec![Material::default()],
+            objects: vec![Object {
+                name: "hinge".into(),
+            }],
+            polygons: vec![
+                square(vec![
+                    Vec3::new(-1.0, 0.0, 0.0),
+                    Vec3::ZERO,
+                    Vec3::Y,
+                    Vec3::new(-1.0, 1.0, 0.0),
+                ]),
+                square(vec![
+                    Vec3::ZERO,
+                    Vec3::new(c, 0.0, s),
+                    Vec3::new(c, 1.0, s),
+                    Vec3::Y,
+                ]),
+            ],
+            ..Scene::default()
+        }
+    }
+
+    #[test]
+    fn smoothing_angle_decides_whether_facets_share_values() {
+        for (angle, shared) in [(20.0, true), (90.0, false)] {
+            let mesh = Mesh::build(&hinge(angle), Subdivision::Elements(2));
+            // Radiosity 1 on the first square, 3 on the second; equal areas (to f32 rounding).
+            let b: Vec<Rgb> = (0..mesh.element_count())
+                .map(|e| Rgb::splat(if mesh.element(e).patch == 0 { 1.0 } else { 3.0 }))
+                .collect();
+            let lit = lit_mesh(&mesh, &b);
+            let on_hinge: Vec<f64> = lit
+                .positions
+                .iter()
+                .zip(&lit.radiosity)
+                .filter(|(p, _)| p.x.abs() < 1e-6 && p.z.abs() < 1e-6)
+                .map(|(_, b)| b.x)
+                .collect();
+            assert_eq!(on_hinge.len(), 4, "two hinge vertices per surface");
+            if shared {
+                assert!(
+                    on_hinge.iter().all(|&v| (v - 2.0).abs() < 1e-6),
+                    "{on_hinge:?}"
+                );
+            } else {
+                assert!(
+                    on_hinge.iter().all(|&v| v == 1.0 || v == 3.0),
+                    "{on_hinge:?}"
+                );
+            }
+        }
     }
 
     #[test]

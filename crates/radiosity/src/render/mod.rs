@@ -10,9 +10,16 @@
 //! 3. [`image`]: the [`Image`] it produces, holding **radiance** L = B/π per channel (linear), so
 //!    it compares pixel for pixel with a path tracer's image of the same scene.
 //! 4. [`tonemap`]: exposure and the sRGB transfer function, for 8-bit output.
+//! 5. [`raytrace`]: a Whitted ray tracer over the lit mesh (two-pass: specular paths on top of
+//!    the radiosity solution), with optional final gather.
+//! 6. [`local`]: the "OpenGL" local illumination model (direct light + constant ambient).
+//! 7. [`compare`]: labelled side-by-side images of several modes.
 pub mod camera;
+pub mod compare;
 pub mod image;
+pub mod local;
 pub mod raster;
+pub mod raytrace;
 pub mod tonemap;
 
 pub use camera::Projection;

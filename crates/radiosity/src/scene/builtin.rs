@@ -12,8 +12,20 @@ const NAMES: &[(&str, &str)] = &[
         "the measured Cornell box (Cornell Program of Computer Graphics), in millimetres",
     ),
     (
+        "cornell-spheres",
+        "the Cornell box with a mirror sphere and a glass sphere (for --mode raytrace, compare)",
+    ),
+    (
         "furnace",
         "a closed unit cube, reflectance 0.5, ceiling emitting radiance 1 (furnace test)",
+    ),
+    (
+        "teapot",
+        "the Utah teapot (32 bicubic Bézier patches) in a lit room with coloured walls",
+    ),
+    (
+        "solids",
+        "a CSG part, a metaball blob and a torus with instances, in a lit room (solid modeling)",
     ),
 ];
 
@@ -24,8 +36,20 @@ const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../../scenes/cornell/scene.toml"),
     ),
     (
+        "scenes/cornell-spheres/scene.toml",
+        include_str!("../../../../scenes/cornell-spheres/scene.toml"),
+    ),
+    (
         "scenes/furnace/scene.toml",
         include_str!("../../../../scenes/furnace/scene.toml"),
+    ),
+    (
+        "scenes/teapot/scene.toml",
+        include_str!("../../../../scenes/teapot/scene.toml"),
+    ),
+    (
+        "scenes/solids/scene.toml",
+        include_str!("../../../../scenes/solids/scene.toml"),
     ),
 ];
 

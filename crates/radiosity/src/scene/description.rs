@@ -173,4 +173,97 @@ pub enum ShapeDesc {
         /// `path`, as written (relative to the scene file).
         path: Field<PathBuf>,
     },
+    /// `shape = "bezier_patch"`: tensor-product Bézier patches, from `points` or a file.
+    BezierPatch {
+        /// `points`: one patch's control net, a list of rows (along u) of points (along v).
+        points: Option<Field<Vec<Vec<Vec3>>>>,
+        /// `path`: bicubic patches in Newell's text format, relative to the scene file.
+        path: Option<Field<PathBuf>>,
+        /// `tolerance`: chordal tolerance in scene units.
+        tolerance: Option<Field<f64>>,
+    },
+    /// `shape = "nurbs_surface"`: one tensor-product NURBS patch.
+    NurbsSurface {
+        /// `points`: the control net, rows along u.
+        points: Field<Vec<Vec<Vec3>>>,
+        /// `weights`, the same shape as `points` (default all 1).
+        weights: Option<Field<Vec<Vec<f64>>>>,
+        /// `degree = [p, q]` (default 3, at most the net size − 1).
+        degree: Option<Field<Vec<u32>>>,
+        /// `knots_u` (default clamped uniform).
+        knots_u: Option<Field<Vec<f64>>>,
+        /// `knots_v` (default clamped uniform).
+        knots_v: Option<Field<Vec<f64>>>,
+        /// `tolerance`: chordal tolerance in scene units.
+        tolerance: Option<Field<f64>>,
+    },
+    /// `shape = "revolve"`: a NURBS profile curve turned about an axis.
+    Revolve {
+        /// `profile` control points.
+        profile: Field<Vec<Vec3>>,
+        /// `weights` of the profile (default all 1).
+        weights: Option<Field<Vec<f64>>>,
+        /// `degree` of the profile (default 3, at most the point count − 1).
+        degree: Option<Field<u32>>,
+        /// `knots` of the profile (default clamped uniform).
+        knots: Option<Field<Vec<f64>>>,
+        /// `origin`: a point on the axis (default 0).
+        origin: Field<Vec3>,
+        /// `axis` direction (default +y).
+        axis: Field<Vec3>,
+        /// `angle` in degrees (default 360).
+        angle: Field<f64>,
+        /// `tolerance`: chordal tolerance in scene units.
+        tolerance: Option<Field<f64>>,
+    },
+    /// `shape = "subdivision"`: a subdivision surface.
+    Subdivision {
+        /// `base`: a built-in base mesh (`cube`, `tetrahedron`), or else `vertices` + `faces`.
+        base: Option<Field<String>>,
+        /// `vertices` of the base mesh.
+        vertices: Option<Field<Vec<Vec3>>>,
+        /// `faces` of the base mesh: 0-based vertex indices, counter-clockwise.
+        faces: Option<Field<Vec<Vec<u32>>>>,
+        /// `scheme`: `catmull_clark` (default) or `loop`.
+        scheme: Field<String>,
+        /// `levels` of refinement (default 3).
+        levels: Field<u32>,
+    },
+    /// `shape = "teapot"`: the Utah teapot's 32 Bézier patches (y-up, on y = 0, 3.15 tall).
+    Teapot {
+        /// `tolerance`: chordal tolerance in scene units.
+        tolerance: Option<Field<f64>>,
+    },
+    /// `shape = "implicit"`: the zero set of a signed distance expression, by marching cubes.
+    Implicit {
+        /// `sdf`: the expression (see docs/scene-format.md), already checked.
+        sdf: Field<model::implicit::Sdf>,
+        /// `resolution`: marching-cubes cells along the longest side of the solid's bounds.
+        resolution: Field<u32>,
+    },
+    /// `shape = "csg"`: a Boolean tree of closed operands.
+    Csg {
+        /// `op`: `union`, `intersection` or `difference` (the first minus all others).
+        op: Field<String>,
+        /// `operands`, each a shape table with an optional `transform`.
+        operands: Field<Vec<OperandDesc>>,
+    },
+    /// `shape = "instance"`: another object's shape again, with this object's transform.
+    Instance {
+        /// `of`: the name of the object whose shape is reused.
+        of: Field<String>,
+    },
+}
+
+/// One operand of a `csg` shape.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OperandDesc {
+    /// Where the operand's table starts.
+    pub pos: Pos,
+    /// Its key path (`objects[2].operands[1]`).
+    pub key: String,
+    /// Its `transform`.
+    pub transform: Option<TransformDesc>,
+    /// Its shape.
+    pub shape: ShapeDesc,
 }

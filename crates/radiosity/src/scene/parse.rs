@@ -17,11 +17,12 @@ use glam::Vec3;
 use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 
 use super::description::{
-    CameraDesc, Field, MaterialDesc, ObjectDesc, Pos, RenderDesc, SceneDesc, ShapeDesc,
-    TransformDesc,
+    CameraDesc, Field, MaterialDesc, ObjectDesc, OperandDesc, Pos, RenderDesc, SceneDesc,
+    ShapeDesc, TransformDesc,
 };
 use super::SceneError;
 use crate::Rgb;
+use model::implicit::Sdf;
 
 /// The keys every object may have, whatever its shape.
 const OBJECT_KEYS: &[&str] = &["name", "material", "shape", "transform"];
@@ -33,7 +34,46 @@ const SHAPES: &[(&str, &[&str])] = &[
     ("box", &["min", "max"]),
     ("sphere", &["center", "radius", "subdivisions"]),
     ("mesh", &["path"]),
+    ("bezier_patch", &["points", "path", "tolerance"]),
+    (
+        "nurbs_surface",
+        &[
+            "points",
+            "weights",
+            "degree",
+            "knots_u",
+            "knots_v",
+            "tolerance",
+        ],
+    ),
+    (
+        "revolve",
+        &[
+            "profile",
+            "weights",
+            "degree",
+            "knots",
+            "origin",
+            "axis",
+            "angle",
+            "tolerance",
+        ],
+    ),
+    (
+        "subdivision",
+        &["base", "vertices", "faces", "scheme", "levels"],
+    ),
+    ("teapot", &["tolerance"]),
+    ("implicit", &["sdf", "resolution"]),
+    ("csg", &["op", "operands"]),
+    ("instance", &["of"]),
 ];
+
+/// Default marching-cubes `resolution` of an implicit shape.
+pub const DEFAULT_IMPLICIT_RESOLUTION: u32 = 48;
+
+/// Default subdivision `levels`.
+pub const DEFAULT_SUBDIVISION_LEVELS: u32 = 3;
 
 /// Default `subdivisions` of a sphere (20·4³ = 1280 triangles).
 pub const DEFAULT_SPHERE_SUBDIVISIONS: u32 = 3;
@@ -222,10 +262,296 @@ fn parse_shape(kind: &str, t: &mut Table<'_>) -> Result<ShapeDesc, SceneError> {
                 |k, v| src.u32(k, v),
             )?,
         },
+        "bezier_patch" => ShapeDesc::BezierPatch {
+            points: t.optional("points", |k, v| src.list(k, v, |k, v| src.vec3_list(k, v)))?,
+            path: t.optional("path", |k, v| Ok(src.string(k, v)?.map(PathBuf::from)))?,
+            tolerance: t.optional("tolerance", |k, v| src.f64(k, v))?,
+        },
+        "nurbs_surface" => ShapeDesc::NurbsSurface {
+            points: t.required_with("points", |k, v| src.list(k, v, |k, v| src.vec3_list(k, v)))?,
+            weights: t.optional("weights", |k, v| src.list(k, v, |k, v| src.f64_list(k, v)))?,
+            degree: t.optional("degree", |k, v| src.list(k, v, |k, v| src.u32(k, v)))?,
+            knots_u: t.optional("knots_u", |k, v| src.f64_list(k, v))?,
+            knots_v: t.optional("knots_v", |k, v| src.f64_list(k, v))?,
+            tolerance: t.optional("tolerance", |k, v| src.f64(k, v))?,
+        },
+        "revolve" => ShapeDesc::Revolve {
+            profile: t.required_with("profile", |k, v| src.vec3_list(k, v))?,
+            weights: t.optional("weights", |k, v| src.f64_list(k, v))?,
+            degree: t.optional("degree", |k, v| src.u32(k, v))?,
+            knots: t.optional("knots", |k, v| src.f64_list(k, v))?,
+            origin: t.optional_with("origin", Vec3::ZERO, |k, v| src.vec3(k, v))?,
+            axis: t.optional_with("axis", Vec3::Y, |k, v| src.vec3(k, v))?,
+            angle: t.optional_with("angle", 360.0, |k, v| src.f64(k, v))?,
+            tolerance: t.optional("tolerance", |k, v| src.f64(k, v))?,
+        },
+        "subdivision" => ShapeDesc::Subdivision {
+            base: t.optional("base", |k, v| src.string(k, v))?,
+            vertices: t.optional("vertices", |k, v| src.vec3_list(k, v))?,
+            faces: t.optional("faces", |k, v| {
+                src.list(k, v, |k, v| src.list(k, v, |k, v| src.u32(k, v)))
+            })?,
+            scheme: t.optional_with("scheme", "catmull_clark".to_string(), |k, v| {
+                src.string(k, v)
+            })?,
+            levels: t.optional_with("levels", DEFAULT_SUBDIVISION_LEVELS, |k, v| src.u32(k, v))?,
+        },
+        "teapot" => ShapeDesc::Teapot {
+            tolerance: t.optional("tolerance", |k, v| src.f64(k, v))?,
+        },
+        "implicit" => ShapeDesc::Implicit {
+            sdf: t.required_with("sdf", |k, v| {
+                let at = src.field(k, &v, ());
+                let sdf = parse_sdf(src, k, v)?;
+                Ok(at.map(|()| sdf))
+            })?,
+            resolution: t.optional_with("resolution", DEFAULT_IMPLICIT_RESOLUTION, |k, v| {
+                src.u32(k, v)
+            })?,
+        },
+        "csg" => ShapeDesc::Csg {
+            op: t.required_with("op", |k, v| src.string(k, v))?,
+            operands: t.required_with("operands", |k, v| {
+                let at = src.field(k, &v, ());
+                let items = src
+                    .array(v, k)?
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, item)| {
+                        let t = Table::new(src, format!("{k}[{i}]"), item)?;
+                        parse_operand(t)
+                    })
+                    .collect::<Result<Vec<_>, SceneError>>()?;
+                Ok(at.map(|()| items))
+            })?,
+        },
+        "instance" => ShapeDesc::Instance {
+            of: t.required_with("of", |k, v| src.string(k, v))?,
+        },
         _ => ShapeDesc::Mesh {
             path: t.required_with("path", |k, v| Ok(src.string(k, v)?.map(PathBuf::from)))?,
         },
     })
+}
+
+/// One `csg` operand: a `shape` with its keys and an optional `transform`.
+fn parse_operand(mut t: Table<'_>) -> Result<OperandDesc, SceneError> {
+    let src = t.src;
+    let shape = t.required_with("shape", |k, v| src.string(k, v))?;
+    let Some((_, keys)) = SHAPES.iter().find(|(s, _)| *s == shape.value) else {
+        return Err(SceneError::at(
+            src.loc_of(shape.pos),
+            format!("unknown shape `{}`", shape.value),
+        )
+        .with_key(shape.key));
+    };
+    let allowed: Vec<&str> = ["shape", "transform"]
+        .iter()
+        .chain(keys.iter())
+        .copied()
+        .collect();
+    t.check_keys(&allowed)?;
+    let transform = match t.take("transform") {
+        Some((_, v)) => Some(parse_transform(Table::new(
+            src,
+            t.child_path("transform"),
+            v,
+        )?)?),
+        None => None,
+    };
+    Ok(OperandDesc {
+        pos: src.pos(t.span.start),
+        key: t.path.clone(),
+        transform,
+        shape: parse_shape(&shape.value, &mut t)?,
+    })
+}
+
+/// A signed distance expression: a table with one key naming the node (`sphere`, `box`,
+/// `torus`, `cylinder`, `plane`, `metaballs`, `union`, `intersection`, `difference`,
+/// `smooth_union`) whose value holds its parameters, operands in `of`, and an optional
+/// `transform`. Parameters are range-checked here, where their positions are known.
+fn parse_sdf(src: &Source<'_>, key: &str, v: Value) -> Result<Sdf, SceneError> {
+    const NODES: &[(&str, &[&str])] = &[
+        ("sphere", &["center", "radius"]),
+        ("box", &["min", "max"]),
+        ("torus", &["center", "major", "minor"]),
+        ("cylinder", &["center", "radius", "half_height"]),
+        ("plane", &["normal", "offset"]),
+        ("metaballs", &["balls", "threshold"]),
+        ("union", &["of"]),
+        ("intersection", &["of"]),
+        ("difference", &["of"]),
+        ("smooth_union", &["of", "k"]),
+    ];
+    let outer = Table::new(src, key.to_string(), v)?;
+    let span = outer.span.clone();
+    let mut entries = outer.entries;
+    if entries.len() != 1 {
+        let names: Vec<&str> = NODES.iter().map(|(n, _)| *n).collect();
+        return Err(src.error(&span, key, format!("expected one of: {}", names.join(", "))));
+    }
+    let (node, body) = entries.remove(0);
+    let path = format!("{key}.{}", node.name);
+    let Some((name, keys)) = NODES.iter().find(|(n, _)| *n == node.name) else {
+        let names: Vec<&str> = NODES.iter().map(|(n, _)| *n).collect();
+        return Err(src.error(
+            &node.span,
+            &path,
+            format!("unknown expression (expected one of: {})", names.join(", ")),
+        ));
+    };
+    let mut t = Table::new(src, path.clone(), body)?;
+    let allowed: Vec<&str> = keys.iter().chain(["transform"].iter()).copied().collect();
+    t.check_keys(&allowed)?;
+    let positive = |f: Field<f32>| -> Result<f64, SceneError> {
+        if f.value > 0.0 {
+            Ok(f64::from(f.value))
+        } else {
+            Err(SceneError::at(src.loc_of(f.pos), "must be positive").with_key(f.key))
+        }
+    };
+    let p3 = |f: Field<Vec3>| f.value.as_dvec3();
+    let operands = |t: &mut Table<'_>, n: Option<usize>| -> Result<Vec<Sdf>, SceneError> {
+        let list = t.required_with("of", |k, v| {
+            let at = src.field(k, &v, ());
+            let whole = v.span.clone();
+            let items = src.array(v, k)?;
+            if items.len() < 2 || n.is_some_and(|n| items.len() != n) {
+                return Err(src.error(
+                    &whole,
+                    k,
+                    match n {
+                        Some(n) => format!("expected exactly {n} operands"),
+                        None => "expected at least 2 operands".to_string(),
+                    },
+                ));
+            }
+            let sdfs = items
+                .into_iter()
+                .enumerate()
+                .map(|(i, x)| parse_sdf(src, &format!("{k}[{i}]"), x))
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok(at.map(|()| sdfs))
+        })?;
+        Ok(list.value)
+    };
+    let sdf = match *name {
+        "sphere" => Sdf::Sphere {
+            center: p3(t.required_with("center", |k, v| src.vec3(k, v))?),
+            radius: positive(t.required_with("radius", |k, v| src.f32(k, v))?)?,
+        },
+        "box" => {
+            let min = t.required_with("min", |k, v| src.vec3(k, v))?;
+            let max = t.required_with("max", |k, v| src.vec3(k, v))?;
+            if !min.value.cmplt(max.value).all() {
+                return Err(SceneError::at(
+                    src.loc_of(max.pos),
+                    "max must exceed min on every axis",
+                )
+                .with_key(max.key));
+            }
+            Sdf::Box {
+                min: p3(min),
+                max: p3(max),
+            }
+        }
+        "torus" => Sdf::Torus {
+            center: p3(t.optional_with("center", Vec3::ZERO, |k, v| src.vec3(k, v))?),
+            major: positive(t.required_with("major", |k, v| src.f32(k, v))?)?,
+            minor: positive(t.required_with("minor", |k, v| src.f32(k, v))?)?,
+        },
+        "cylinder" => Sdf::Cylinder {
+            center: p3(t.optional_with("center", Vec3::ZERO, |k, v| src.vec3(k, v))?),
+            radius: positive(t.required_with("radius", |k, v| src.f32(k, v))?)?,
+            half_height: positive(t.required_with("half_height", |k, v| src.f32(k, v))?)?,
+        },
+        "plane" => {
+            let n = t.required_with("normal", |k, v| src.vec3(k, v))?;
+            let Some(normal) = n.value.as_dvec3().try_normalize() else {
+                return Err(
+                    SceneError::at(src.loc_of(n.pos), "normal must not be zero").with_key(n.key)
+                );
+            };
+            Sdf::Plane {
+                normal,
+                offset: t.optional_with("offset", 0.0, |k, v| src.f64(k, v))?.value,
+            }
+        }
+        "metaballs" => {
+            let balls = t.required_with("balls", |k, v| {
+                let at = src.field(k, &v, ());
+                let balls = src
+                    .array(v, k)?
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, b)| {
+                        let key = format!("{k}[{i}]");
+                        let [x, y, z, r] = src.numbers::<4>(&key, &b)?;
+                        if r > 0.0 {
+                            Ok((glam::DVec3::new(x, y, z), r))
+                        } else {
+                            Err(src.error(&b.span, &key, "radius (4th number) must be positive"))
+                        }
+                    })
+                    .collect::<Result<Vec<_>, SceneError>>()?;
+                Ok(at.map(|()| balls))
+            })?;
+            if balls.value.is_empty() {
+                return Err(
+                    SceneError::at(src.loc_of(balls.pos), "expected at least one ball")
+                        .with_key(balls.key),
+                );
+            }
+            let threshold = t.optional_with("threshold", 0.3, |k, v| src.f64(k, v))?;
+            if !(threshold.value > 0.0 && threshold.value < 1.0) {
+                return Err(SceneError::at(
+                    src.loc_of(threshold.pos),
+                    "threshold must be in (0, 1)",
+                )
+                .with_key(threshold.key));
+            }
+            Sdf::Metaballs {
+                balls: balls.value,
+                threshold: threshold.value,
+            }
+        }
+        "union" => Sdf::Union(operands(&mut t, None)?),
+        "intersection" => Sdf::Intersection(operands(&mut t, None)?),
+        "difference" => {
+            let mut ops = operands(&mut t, Some(2))?;
+            let b = ops.pop().map(Box::new);
+            let a = ops.pop().map(Box::new);
+            match (a, b) {
+                (Some(a), Some(b)) => Sdf::Difference(a, b),
+                _ => return Err(src.error(&span, &path, "expected exactly 2 operands")),
+            }
+        }
+        _ => {
+            let k = positive(t.required_with("k", |k, v| src.f32(k, v))?)?;
+            let mut ops = operands(&mut t, Some(2))?;
+            let b = ops.pop().map(Box::new);
+            let a = ops.pop().map(Box::new);
+            match (a, b) {
+                (Some(a), Some(b)) => Sdf::SmoothUnion { a, b, k },
+                _ => return Err(src.error(&span, &path, "expected exactly 2 operands")),
+            }
+        }
+    };
+    match t.take("transform") {
+        Some((_, v)) => {
+            let tr = parse_transform(Table::new(src, format!("{path}.transform"), v)?)?;
+            let pos = tr.scale.pos;
+            let key = tr.scale.key.clone();
+            sdf.transformed(
+                tr.scale.value.as_dvec3(),
+                tr.rotate.value.as_dvec3(),
+                tr.translate.value.as_dvec3(),
+            )
+            .ok_or_else(|| SceneError::at(src.loc_of(pos), "scale must not be zero").with_key(key))
+        }
+        None => Ok(sdf),
+    }
 }
 
 /// `transform = { scale, rotate, translate }`.
@@ -316,6 +642,33 @@ impl<'a> Source<'a> {
             Kind::Array(items) => Ok(items),
             _ => Err(self.wrong_type(key, &v, "an array")),
         }
+    }
+
+    /// An array whose items are read by `item` (each with its indexed key, `key[i]`).
+    fn list<T>(
+        &self,
+        key: &str,
+        v: Value,
+        item: impl Fn(&str, Value) -> Result<Field<T>, SceneError>,
+    ) -> Result<Field<Vec<T>>, SceneError> {
+        let at = self.field(key, &v, ());
+        let items = self
+            .array(v, key)?
+            .into_iter()
+            .enumerate()
+            .map(|(i, x)| Ok(item(&format!("{key}[{i}]"), x)?.value))
+            .collect::<Result<Vec<T>, SceneError>>()?;
+        Ok(at.map(|()| items))
+    }
+
+    /// An array of points.
+    fn vec3_list(&self, key: &str, v: Value) -> Result<Field<Vec<Vec3>>, SceneError> {
+        self.list(key, v, |k, x| self.vec3(k, x))
+    }
+
+    /// An array of finite numbers.
+    fn f64_list(&self, key: &str, v: Value) -> Result<Field<Vec<f64>>, SceneError> {
+        self.list(key, v, |k, x| self.f64(k, x))
     }
 
     fn string(&self, key: &str, v: Value) -> Result<Field<String>, SceneError> {

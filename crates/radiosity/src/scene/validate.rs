@@ -273,6 +273,219 @@ fn check_object(desc: &SceneDesc, o: &ObjectDesc) -> Result<(), SceneError> {
             }
         }
         ShapeDesc::Mesh { .. } => {}
+        ShapeDesc::Implicit { .. } | ShapeDesc::Csg { .. } => check_solid(desc, &o.shape)?,
+        ShapeDesc::Instance { of } => {
+            let target = desc
+                .objects
+                .iter()
+                .find(|t| t.name.as_ref().is_some_and(|n| n.value == of.value));
+            match target.map(|t| &t.shape) {
+                None => {
+                    return Err(fail(desc, of, format!("no object named `{}`", of.value)));
+                }
+                Some(ShapeDesc::Instance { .. } | ShapeDesc::Mesh { .. }) => {
+                    return Err(fail(
+                        desc,
+                        of,
+                        "an instance cannot reuse another instance or a mesh file".into(),
+                    ));
+                }
+                Some(_) => {}
+            }
+        }
+        ShapeDesc::BezierPatch {
+            points,
+            path,
+            tolerance,
+        } => {
+            check_tolerance(desc, tolerance.as_ref())?;
+            match (points, path) {
+                (Some(_), Some(p)) => {
+                    return Err(fail(desc, p, "give either `points` or `path`".into()))
+                }
+                (None, None) => {
+                    let at = Field {
+                        value: (),
+                        pos: o.pos,
+                        key: format!("objects[{}].points", o.index),
+                    };
+                    return Err(fail(desc, &at, "missing `points` (or `path`)".into()));
+                }
+                _ => {}
+            }
+        }
+        ShapeDesc::NurbsSurface { tolerance, .. } | ShapeDesc::Teapot { tolerance } => {
+            check_tolerance(desc, tolerance.as_ref())?;
+        }
+        ShapeDesc::Revolve {
+            angle, tolerance, ..
+        } => {
+            check_tolerance(desc, tolerance.as_ref())?;
+            if !(angle.value > 0.0 && angle.value <= 360.0) {
+                return Err(fail(
+                    desc,
+                    angle,
+                    "angle must be in (0, 360] degrees".into(),
+                ));
+            }
+        }
+        ShapeDesc::Subdivision {
+            base,
+            vertices,
+            faces,
+            scheme,
+            levels,
+        } => {
+            if !["catmull_clark", "loop"].contains(&scheme.value.as_str()) {
+                return Err(fail(
+                    desc,
+                    scheme,
+                    format!(
+                        "unknown scheme `{}` (expected catmull_clark or loop)",
+                        scheme.value
+                    ),
+                ));
+            }
+            if levels.value > MAX_SUBDIVISION_LEVELS {
+                return Err(fail(
+                    desc,
+                    levels,
+                    format!("at most {MAX_SUBDIVISION_LEVELS} levels"),
+                ));
+            }
+            match (base, vertices, faces) {
+                (Some(b), None, None) => {
+                    if !["cube", "tetrahedron"].contains(&b.value.as_str()) {
+                        return Err(fail(
+                            desc,
+                            b,
+                            format!("unknown base `{}` (expected cube or tetrahedron)", b.value),
+                        ));
+                    }
+                }
+                (None, Some(v), Some(f)) => {
+                    let n = v.value.len();
+                    if let Some(bad) = f
+                        .value
+                        .iter()
+                        .find(|face| face.len() < 3 || face.iter().any(|&i| i as usize >= n))
+                    {
+                        return Err(fail(
+                            desc,
+                            f,
+                            format!("face {bad:?} needs 3 or more indices below {n}"),
+                        ));
+                    }
+                }
+                _ => {
+                    let at = Field {
+                        value: (),
+                        pos: o.pos,
+                        key: format!("objects[{}].base", o.index),
+                    };
+                    return Err(fail(
+                        desc,
+                        &at,
+                        "give either `base` or both `vertices` and `faces`".into(),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Most subdivision levels (each multiplies the face count by 4).
+pub const MAX_SUBDIVISION_LEVELS: u32 = 6;
+
+/// A chordal tolerance, when given, is positive.
+fn check_tolerance(desc: &SceneDesc, tolerance: Option<&Field<f64>>) -> Result<(), SceneError> {
+    match tolerance {
+        Some(t) if t.value <= 0.0 => Err(fail(desc, t, "tolerance must be positive".into())),
+        _ => Ok(()),
+    }
+}
+
+/// Most marching-cubes cells along a side of an implicit shape.
+pub const MAX_IMPLICIT_RESOLUTION: u32 = 192;
+
+/// An `implicit` or `csg` shape (and, recursively, a `csg` operand): a bounded expression with
+/// a sane resolution; operands closed solids (box, sphere, implicit, csg) with a usable
+/// transform.
+fn check_solid(desc: &SceneDesc, shape: &ShapeDesc) -> Result<(), SceneError> {
+    match shape {
+        ShapeDesc::Implicit { sdf, resolution } => {
+            if sdf.value.bounds().is_none() {
+                return Err(fail(
+                    desc,
+                    sdf,
+                    "the solid is unbounded (intersect it with a box)".into(),
+                ));
+            }
+            if !(4..=MAX_IMPLICIT_RESOLUTION).contains(&resolution.value) {
+                return Err(fail(
+                    desc,
+                    resolution,
+                    format!("resolution must be in 4..={MAX_IMPLICIT_RESOLUTION}"),
+                ));
+            }
+        }
+        ShapeDesc::Csg { op, operands } => {
+            if !["union", "intersection", "difference"].contains(&op.value.as_str()) {
+                return Err(fail(
+                    desc,
+                    op,
+                    "expected `union`, `intersection` or `difference`".into(),
+                ));
+            }
+            if operands.value.len() < 2 {
+                return Err(fail(desc, operands, "expected at least 2 operands".into()));
+            }
+            for operand in &operands.value {
+                let at = Field {
+                    value: (),
+                    pos: operand.pos,
+                    key: operand.key.clone(),
+                };
+                if let Some(t) = &operand.transform {
+                    if t.scale.value.abs().min_element() == 0.0 {
+                        return Err(fail(desc, &t.scale, "scale must not be zero".into()));
+                    }
+                }
+                match &operand.shape {
+                    ShapeDesc::Box { min, max } if !min.value.cmplt(max.value).all() => {
+                        return Err(fail(desc, max, "max must exceed min on every axis".into()));
+                    }
+                    ShapeDesc::Sphere {
+                        radius,
+                        subdivisions,
+                        ..
+                    } if radius.value <= 0.0 || subdivisions.value > MAX_SPHERE_SUBDIVISIONS => {
+                        return Err(fail(
+                            desc,
+                            radius,
+                            format!(
+                                "radius must be positive, subdivisions at most \
+                                 {MAX_SPHERE_SUBDIVISIONS}"
+                            ),
+                        ));
+                    }
+                    ShapeDesc::Box { .. } | ShapeDesc::Sphere { .. } => {}
+                    s @ (ShapeDesc::Implicit { .. } | ShapeDesc::Csg { .. }) => {
+                        check_solid(desc, s)?;
+                    }
+                    _ => {
+                        return Err(fail(
+                            desc,
+                            &at,
+                            "a csg operand must be a closed solid: box, sphere, implicit or csg"
+                                .into(),
+                        ));
+                    }
+                }
+            }
+        }
+        _ => {}
     }
     Ok(())
 }

@@ -26,6 +26,7 @@ pub(super) fn run(
     let mut b = system.emission.clone();
     let mut means = vec![Rgb::ZERO; system.source_area.len()];
     let (mut iterations, mut residual) = (0, 1.0);
+    let (start, mut history) = (std::time::Instant::now(), Vec::new());
     while iterations < settings.max_iterations && residual >= settings.tolerance {
         system.source_means(&b, &mut means);
         let mut moved = 0.0;
@@ -41,11 +42,13 @@ pub(super) fn run(
         }
         residual = moved / system.emitted;
         iterations += 1;
+        history.push((iterations, start.elapsed().as_secs_f64(), residual));
         progress.advance(1);
     }
     Run {
         radiosity: b,
         iterations,
         residual,
+        history,
     }
 }

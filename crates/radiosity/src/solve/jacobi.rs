@@ -27,6 +27,7 @@ pub(super) fn run(
     let mut next = b.clone();
     let mut means = vec![Rgb::ZERO; system.source_area.len()];
     let (mut iterations, mut residual) = (0, 1.0);
+    let (start, mut history) = (std::time::Instant::now(), Vec::new());
     while iterations < settings.max_iterations && residual >= settings.tolerance {
         system.source_means(&b, &mut means);
         next.par_iter_mut().enumerate().for_each(|(e, out)| {
@@ -35,12 +36,14 @@ pub(super) fn run(
         residual = system.residual(&b, &next);
         std::mem::swap(&mut b, &mut next);
         iterations += 1;
+        history.push((iterations, start.elapsed().as_secs_f64(), residual));
         progress.advance(1);
     }
     Run {
         radiosity: b,
         iterations,
         residual,
+        history,
     }
 }
 

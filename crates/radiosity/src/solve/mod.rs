@@ -18,6 +18,9 @@
 //! - [`Method::Progressive`] ([`progressive`]): shoot the source with the most unshot power,
 //!   computing one column of form factors on the fly (Cohen, Chen, Wallace & Greenberg 1988):
 //!   no n² storage, and a usable picture after a few shots.
+//! - [`Method::Hierarchical`] ([`hierarchical`]): links between clusters and quadtree nodes
+//!   only as fine as the light they carry (Hanrahan, Salzman & Aupperle 1991; Smits, Arvo &
+//!   Greenberg 1994), refining the elements on demand: near-linear in the elements.
 //!
 //! # Residual
 //!
@@ -35,6 +38,7 @@
 //! in the total power is about r·ρ/(1 − ρ) of the emitted power.
 
 pub mod gauss_seidel;
+pub mod hierarchical;
 pub mod jacobi;
 pub mod matrix;
 pub mod progressive;
@@ -60,11 +64,18 @@ pub enum Method {
     GaussSeidel,
     /// Shooting the largest unshot power, form factors computed on the fly.
     Progressive,
+    /// Hierarchical radiosity with clustering, refining the elements on demand.
+    Hierarchical,
 }
 
 impl Method {
     /// Every method, in the order the command line lists them.
-    pub const ALL: [Method; 3] = [Method::Jacobi, Method::GaussSeidel, Method::Progressive];
+    pub const ALL: [Method; 4] = [
+        Method::Jacobi,
+        Method::GaussSeidel,
+        Method::Progressive,
+        Method::Hierarchical,
+    ];
 
     /// The name used on the command line and in stats.
     #[must_use]
@@ -73,6 +84,7 @@ impl Method {
             Method::Jacobi => "jacobi",
             Method::GaussSeidel => "gauss-seidel",
             Method::Progressive => "progressive",
+            Method::Hierarchical => "hierarchical",
         }
     }
 }
@@ -85,7 +97,7 @@ impl fmt::Display for Method {
 
 /// An unknown solver name.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown solver `{0}` (choose jacobi, gauss-seidel or progressive)")]
+#[error("unknown solver `{0}` (choose jacobi, gauss-seidel, progressive or hierarchical)")]
 pub struct UnknownMethod(pub String);
 
 impl FromStr for Method {
@@ -113,7 +125,17 @@ pub struct Settings {
     /// Most sources the caller should cut the quadtrees into ([`crate::mesh::Mesh::sources`]);
     /// the matrix is elements × sources.
     pub max_sources: usize,
+    /// Hierarchical solver: a link is refined while it moves more than this fraction of the
+    /// emitted power (0: [`DEFAULT_EPSILON`]).
+    pub epsilon: f64,
+    /// Hierarchical solver: the smallest element area refinement may create, in scene units²
+    /// (0: a millionth of the total area).
+    pub min_element_area: f64,
 }
+
+/// The hierarchical solver's default ε (see [`Settings::epsilon`]), measured on the built-in
+/// Cornell box: see `docs/hierarchical.md`.
+pub const DEFAULT_EPSILON: f64 = 1e-4;
 
 impl Default for Settings {
     /// Gauss-Seidel to a residual of 10⁻⁴, a 1 GiB matrix at most (16 384² form factors) and
@@ -130,6 +152,8 @@ impl Default for Settings {
             max_iterations: 100_000,
             max_matrix_bytes: 1 << 30,
             max_sources: 4096,
+            epsilon: DEFAULT_EPSILON,
+            min_element_area: 0.0,
         }
     }
 }
@@ -155,6 +179,11 @@ pub struct Solution {
     pub form_factor_seconds: f64,
     /// Time spent solving apart from form factors, in seconds.
     pub solve_seconds: f64,
+    /// The hierarchical solver's links, levels and memory (`None` for the others).
+    pub hierarchy: Option<crate::stats::HierarchyStats>,
+    /// Convergence: (iteration, seconds since the iterations began, residual) after each
+    /// sweep or shot (empty when the solver does not record it).
+    pub history: Vec<(usize, f64, f64)>,
 }
 
 /// Why a solve failed.
@@ -162,7 +191,7 @@ pub struct Solution {
 pub enum SolveError {
     /// The stored form-factor matrix would exceed the memory limit.
     #[error(
-        "the form-factor matrix needs {} MiB, more than the limit of {} MiB: use `--solver progressive` (no stored matrix) or raise `--max-memory`",
+        "the form-factor matrix needs {} MiB, more than the limit of {} MiB: use `--solver hierarchical` (scales to millions of elements), `--solver progressive` (no stored matrix) or raise `--max-memory`",
         mib(*bytes),
         mib(*limit)
     )]
@@ -210,6 +239,8 @@ pub fn solve(
         ambient: Rgb::ZERO,
         form_factor_seconds: 0.0,
         solve_seconds: 0.0,
+        hierarchy: None,
+        history: Vec::new(),
     };
     if system.emitted <= 0.0 || !system.emitted.is_finite() {
         return Ok(solution);
@@ -231,7 +262,25 @@ pub fn solve(
             solution.radiosity = run.radiosity;
             solution.iterations = run.iterations;
             solution.residual = run.residual;
+            solution.history = run.history;
             solution.solve_seconds = start.elapsed().as_secs_f64();
+        }
+        Method::Hierarchical => {
+            // Refine a copy (node ids stay, so each given element reads its node's mean).
+            let mut mesh = g.mesh.clone();
+            let run = hierarchical::run(&mut mesh, g.bvh, settings, progress);
+            solution.radiosity = g
+                .mesh
+                .elements
+                .iter()
+                .map(|&n| run.node_radiosity[n as usize])
+                .collect();
+            solution.iterations = run.iterations;
+            solution.residual = run.residual;
+            solution.links = run.stats.links;
+            solution.form_factor_seconds = run.refine_seconds;
+            solution.solve_seconds = run.solve_seconds;
+            solution.hierarchy = Some(run.stats);
         }
         Method::Progressive => {
             let start = Instant::now();
@@ -241,6 +290,7 @@ pub fn solve(
             solution.radiosity = run.radiosity;
             solution.iterations = run.iterations;
             solution.residual = run.residual;
+            solution.history = run.history;
             solution.links = run.links;
             solution.ambient = run.ambient;
             solution.form_factor_seconds = run.form_factor_seconds;
@@ -255,6 +305,8 @@ pub(crate) struct Run {
     radiosity: Vec<Rgb>,
     iterations: usize,
     residual: f64,
+    /// (iteration, seconds, residual) after each sweep.
+    history: Vec<(usize, f64, f64)>,
 }
 
 /// The linear system in solver-friendly arrays.
@@ -359,7 +411,7 @@ mod tests {
         for m in Method::ALL {
             assert_eq!(m.name().parse::<Method>(), Ok(m));
         }
-        let err = "hierarchical".parse::<Method>().unwrap_err().to_string();
+        let err = "wavelet".parse::<Method>().unwrap_err().to_string();
         for m in Method::ALL {
             assert!(err.contains(m.name()), "{err}");
         }
@@ -373,6 +425,7 @@ mod tests {
         };
         let msg = e.to_string();
         assert!(msg.contains("--solver progressive") && msg.contains("--max-memory"));
+        assert!(msg.contains("--solver hierarchical"), "{msg}");
         assert!(
             msg.contains("3072 MiB") && msg.contains("1024 MiB"),
             "{msg}"

@@ -42,6 +42,8 @@ pub(super) struct Shots {
     pub links: u64,
     pub ambient: Rgb,
     pub form_factor_seconds: f64,
+    /// (shot, seconds, unshot fraction) after each shot.
+    pub history: Vec<(usize, f64, f64)>,
 }
 
 /// Shoots until the unshot power is below the tolerance or the iteration limit is reached.
@@ -66,6 +68,7 @@ pub(super) fn run(
             .sum()
     };
     let mut residual = unshot_power(&unshot) / system.emitted;
+    let (started, mut history) = (Instant::now(), Vec::new());
     while iterations < settings.max_iterations && residual >= settings.tolerance {
         // The source with the most unshot power (the first of equals).
         let mut s = 0;
@@ -94,6 +97,7 @@ pub(super) fn run(
         }
         residual = unshot_power(&unshot) / system.emitted;
         iterations += 1;
+        history.push((iterations, started.elapsed().as_secs_f64(), residual));
         progress.advance(1);
     }
     Shots {
@@ -103,6 +107,7 @@ pub(super) fn run(
         links,
         ambient: ambient(system, &unshot),
         form_factor_seconds: ff_seconds,
+        history,
     }
 }
 

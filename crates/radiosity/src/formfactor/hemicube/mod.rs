@@ -33,14 +33,16 @@
 //!
 //! # Failure modes and what is done about them
 //!
-//! - **Near neighbours.** The hemicube measures from one point, the centroid, which is good
-//!   only while the distance is large against the elements' size; at a shared edge it can be
-//!   off by tens of percent. Sources whose centre lies within `near` × the mean of the two
-//!   diameters ([`DEFAULT_NEAR`]) get the area-to-area value instead: Lambert's exact
-//!   unoccluded factor at an n × n grid of points on the receiver, times the fraction of the
-//!   source's cells that the z-buffer left visible. So the row stays consistent, the other
-//!   (far) values are scaled so that far sources and empty sky keep their share of what the
-//!   near ones leave: by (1 − Σ_near F_exact) / (1 − Σ_near F_hemicube), which keeps a closed
+//! - **Near neighbours.** A hemicube measures from one point, which is good only while the
+//!   distance is large against the element's size; at a shared edge the centroid's view can
+//!   be off by tens of percent. So the receiver is integrated like in the other methods: one
+//!   hemicube at each of its n × n quadrature points (`quadrature`), weighted by area. And in
+//!   each hemicube, sources whose centre lies within `near` × the mean of the two diameters
+//!   ([`DEFAULT_NEAR`]) get Lambert's exact point-to-polygon factor
+//!   ([`super::analytic::point_to_polygon`]) times the fraction of the source's cells that the
+//!   z-buffer left visible, instead of the cell count. So the row stays consistent, the far
+//!   values are scaled so that far sources and empty sky keep their share of what the near
+//!   ones leave: by (1 − Σ_near F_exact) / (1 − Σ_near F_hemicube), which keeps a closed
 //!   scene's row summing to 1.
 //! - **Aliasing.** A polygon smaller than a cell falls between the cell centres or takes a
 //!   whole cell, and regular scenes line up with the grid, so the errors of neighbouring
@@ -62,7 +64,8 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use self::raster::{rasterize, FaceBuffer, Layout, Polygon, FACES, NOTHING};
-use super::{pair_unoccluded, FormFactors, Geometry, Receiver};
+use super::analytic::point_to_polygon;
+use super::{FormFactors, Geometry, Receiver};
 use crate::mesh::Face;
 
 /// Cells along a full edge when the user asks for nothing else (see `docs/hemicube.md` for the
@@ -111,8 +114,8 @@ pub struct View {
 
 impl Hemicube {
     /// A hemicube of `resolution` cells along a full edge (rounded up to even, at least 2),
-    /// with an n × n receiver quadrature (`quadrature`, at least 1) for near neighbours and the
-    /// rotation seed `seed`. Rotation is on and the near distance is [`DEFAULT_NEAR`].
+    /// one hemicube at each point of an n × n receiver quadrature (`quadrature`, at least 1),
+    /// and the rotation seed `seed`. Rotation is on and the near distance is [`DEFAULT_NEAR`].
     #[must_use]
     pub fn new(resolution: u32, quadrature: u32, seed: u64) -> Self {
         let resolution = resolution.clamp(2, 1 << 14).next_multiple_of(2);
@@ -158,11 +161,14 @@ impl Hemicube {
     #[must_use]
     pub fn view(&self, g: &Geometry, element: usize) -> View {
         let mut scratch = Scratch::default();
+        let node = g.mesh.element(element);
+        let (centre, normal) = (node.face.centroid(), node.face.normal());
         let eye = self.eye(
-            &g.mesh.element(element).face,
-            g.mesh.element(element).patch,
-            0,
-            element,
+            centre,
+            normal,
+            node.face.diameter(),
+            node.patch,
+            [0, element, 0],
         );
         self.draw(g, &eye, sources_of(g), &mut scratch, false);
         View {
@@ -172,15 +178,13 @@ impl Hemicube {
         }
     }
 
-    /// The eye of a hemicube on `face` (of patch `patch`), turned by an angle from the hash of
-    /// (`kind`, `id`, seed).
-    fn eye(&self, face: &Face, patch: u32, kind: u64, id: usize) -> Eye {
-        let centre = face.centroid();
-        let normal = face.normal();
+    /// The eye of a hemicube at `centre` with unit `normal`, on a face of diameter `size` of
+    /// patch `patch`, turned by an angle from the hash of `key` and the seed.
+    fn eye(&self, centre: Vec3, normal: Vec3, size: f32, patch: u32, key: [usize; 3]) -> Eye {
         let (u, v) = normal.any_orthonormal_pair();
         let (a, b) = if self.rotate {
-            let angle = (mix(mix(self.seed ^ kind) ^ id as u64) >> 11) as f32
-                * (std::f32::consts::TAU / (1u64 << 53) as f32);
+            let hash = key.iter().fold(mix(self.seed), |h, &k| mix(h ^ k as u64));
+            let angle = (hash >> 11) as f32 * (std::f32::consts::TAU / (1u64 << 53) as f32);
             let (sin, cos) = angle.sin_cos();
             (u * cos + v * sin, v * cos - u * sin)
         } else {
@@ -189,7 +193,7 @@ impl Hemicube {
         Eye {
             centre,
             axes: [a, b, normal],
-            size: face.diameter(),
+            size,
             patch,
         }
     }
@@ -200,7 +204,7 @@ impl Hemicube {
         &self,
         g: &Geometry<'g>,
         eye: &Eye,
-        candidates: (usize, impl Fn(usize) -> (&'g Face, u32)),
+        candidates: (usize, impl Fn(usize) -> (&'g Face, u32) + Copy),
         scratch: &mut Scratch,
         parallel: bool,
     ) {
@@ -354,6 +358,8 @@ struct Scratch {
     coverage: Vec<f64>,
     near: Vec<u32>,
     acc: Vec<f64>,
+    total: Vec<f64>,
+    receiver: Receiver,
 }
 
 impl Scratch {
@@ -382,7 +388,7 @@ fn with_scratch<T>(f: impl FnOnce(&mut Scratch) -> T) -> T {
 }
 
 /// The sources as drawing candidates.
-fn sources_of<'g>(g: &Geometry<'g>) -> (usize, impl Fn(usize) -> (&'g Face, u32) + 'g) {
+fn sources_of<'g>(g: &Geometry<'g>) -> (usize, impl Fn(usize) -> (&'g Face, u32) + Copy + 'g) {
     let (mesh, sources) = (g.mesh, g.sources);
     (sources.len(), move |s: usize| {
         let node = &mesh.nodes[sources[s] as usize];
@@ -390,20 +396,51 @@ fn sources_of<'g>(g: &Geometry<'g>) -> (usize, impl Fn(usize) -> (&'g Face, u32)
     })
 }
 
+impl Hemicube {
+    /// Σ_k w_k F(x_k → item) over hemicubes at the quadrature points x_k of `face` (of patch
+    /// `patch`), drawing `candidates`; the near items of each hemicube get Lambert's exact
+    /// point-to-polygon factor times their visible fraction. Leaves the sums in `scratch.total`.
+    fn integrate<'g>(
+        &self,
+        g: &Geometry<'g>,
+        (face, patch, key): (&Face, u32, [usize; 2]),
+        candidates: (usize, impl Fn(usize) -> (&'g Face, u32) + Copy),
+        scratch: &mut Scratch,
+        parallel: bool,
+    ) {
+        let normal = face.normal();
+        let mut receiver = std::mem::take(&mut scratch.receiver);
+        receiver.set(face, self.quadrature);
+        let size = face.diameter() / self.quadrature as f32;
+        scratch.total.clear();
+        scratch.total.resize(candidates.0, 0.0);
+        for (k, &(x, weight)) in receiver.points.iter().enumerate() {
+            let eye = self.eye(x.as_vec3(), normal, size, patch, [key[0], key[1], k]);
+            self.draw(g, &eye, candidates, scratch, parallel);
+            self.near_field(scratch, |id, visible| {
+                let polygon: Vec<_> = candidates.1(id)
+                    .0
+                    .corners()
+                    .iter()
+                    .map(|c| c.as_dvec3())
+                    .collect();
+                point_to_polygon(x, receiver.normal, &polygon) * visible
+            });
+            for (t, &f) in scratch.total.iter_mut().zip(&scratch.acc) {
+                *t += weight * f;
+            }
+        }
+        scratch.receiver = receiver;
+    }
+}
+
 impl FormFactors for Hemicube {
     fn row(&self, g: &Geometry, element: usize, out: &mut [f32]) {
         let node = g.mesh.element(element);
-        let eye = self.eye(&node.face, node.patch, 0, element);
         with_scratch(|scratch| {
-            self.draw(g, &eye, sources_of(g), scratch, false);
-            let mut receiver = Receiver::default();
-            if !scratch.near.is_empty() {
-                receiver.set(&node.face, self.quadrature);
-            }
-            self.near_field(scratch, |s, visible| {
-                pair_unoccluded(g, &receiver, element, s) * visible
-            });
-            for (o, &f) in out.iter_mut().zip(&scratch.acc) {
+            let receiver = (&node.face, node.patch, [0, element]);
+            self.integrate(g, receiver, sources_of(g), scratch, false);
+            for (o, &f) in out.iter_mut().zip(&scratch.total) {
                 *o = f as f32;
             }
         });
@@ -411,7 +448,6 @@ impl FormFactors for Hemicube {
 
     fn column(&self, g: &Geometry, source: usize, out: &mut [f32]) {
         let node = &g.mesh.nodes[g.sources[source] as usize];
-        let eye = self.eye(&node.face, node.patch, 1, source);
         let source_area = node.face.area();
         let mesh = g.mesh;
         let elements = (mesh.element_count(), |e: usize| {
@@ -419,14 +455,10 @@ impl FormFactors for Hemicube {
             (&n.face, n.patch)
         });
         with_scratch(|scratch| {
-            self.draw(g, &eye, elements, scratch, true);
-            let mut receiver = Receiver::default();
-            self.near_field(scratch, |e, visible| {
-                receiver.set(&mesh.element(e).face, self.quadrature);
-                let f = pair_unoccluded(g, &receiver, e, source) * visible;
-                f * mesh.element(e).face.area() / source_area
-            });
-            for (e, (o, &f)) in out.iter_mut().zip(&scratch.acc).enumerate() {
+            let shooter = (&node.face, node.patch, [1, source]);
+            self.integrate(g, shooter, elements, scratch, true);
+            // Reciprocity: F_{e→s} = A_s F_{s→e} / A_e.
+            for (e, (o, &f)) in out.iter_mut().zip(&scratch.total).enumerate() {
                 let area = mesh.element(e).face.area();
                 *o = if area > 0.0 {
                     (f * source_area / area) as f32

@@ -1,0 +1,86 @@
+//! `radiosity compare`: the lecture's comparison — local illumination ("OpenGL"), radiosity,
+//! and (when the scene has mirrors or glass) the two-pass ray tracer — side by side in one
+//! labelled image, all from one solve and one exposure.
+
+use std::time::Instant;
+
+use anyhow::Result;
+use radiosity::io::image_file::write_image;
+use radiosity::pipeline::Solved;
+use radiosity::render::local::{self, LocalSettings};
+use radiosity::render::raytrace::{self, RaytraceSettings};
+use radiosity::render::{self, compare, tonemap, Image, RasterSettings};
+use radiosity::scene::Camera;
+use radiosity::Rgb;
+
+use crate::args::{CompareArgs, Mode};
+use crate::job;
+
+/// The image of `solved` seen by `camera` in `mode`; `gather` is the final-gather ray count of
+/// the ray tracer.
+pub fn render_mode(
+    solved: &Solved,
+    camera: &Camera,
+    mode: Mode,
+    raster: &RasterSettings,
+    gather: u32,
+) -> Image {
+    let (scene, mesh, lit) = (&solved.scene, &solved.mesh, &solved.lit);
+    match mode {
+        Mode::Radiosity => render::render(lit, camera, raster),
+        Mode::Local => local::render(scene, mesh, lit, camera, raster, &LocalSettings::default()),
+        Mode::Raytrace => {
+            let settings = RaytraceSettings {
+                gather,
+                ..RaytraceSettings::default()
+            };
+            raytrace::render(scene, mesh, lit, camera, raster, &settings)
+        }
+    }
+}
+
+/// `radiosity compare`.
+pub fn run(args: &CompareArgs) -> Result<()> {
+    job::check_output(&args.output, "image", &job::IMAGE_EXTENSIONS)?;
+    job::check_common_outputs(&args.common)?;
+    job::in_pool(args.common.threads, || {
+        let start = Instant::now();
+        let common = &args.common;
+        let (scene, load) = job::load(&args.scene, common)?;
+        let camera = job::pick_camera(&scene, args.camera.as_deref())?.clone();
+        let raster = RasterSettings {
+            width: args.width.unwrap_or(scene.render.width),
+            height: args.height.unwrap_or(scene.render.height),
+            samples_per_pixel: args.samples,
+        };
+        let solved = job::run_solve(scene, common)?;
+        let render_start = Instant::now();
+        let mut modes = vec![("local", Mode::Local), ("radiosity", Mode::Radiosity)];
+        if raytrace::has_specular(&solved.scene) {
+            modes.push(("ray tracing", Mode::Raytrace));
+        }
+        let mut panels = Vec::with_capacity(modes.len());
+        for (label, mode) in modes {
+            let t = Instant::now();
+            panels.push((
+                label,
+                render_mode(&solved, &camera, mode, &raster, args.gather),
+            ));
+            job::say(
+                common,
+                &format!("{label}: rendered in {:.2} s", t.elapsed().as_secs_f64()),
+            );
+        }
+        let radiosity = &panels[1].1;
+        let exposure = args
+            .exposure
+            .unwrap_or_else(|| tonemap::auto_exposure(radiosity));
+        let white = Rgb::splat(1.0 / tonemap::exposure_scale(exposure));
+        let refs: Vec<(&str, &Image)> = panels.iter().map(|(l, i)| (*l, i)).collect();
+        let image = compare::compose(&refs, white);
+        write_image(&args.output, &image, exposure)?;
+        job::say(common, &format!("wrote {}", args.output.display()));
+        let render_seconds = render_start.elapsed().as_secs_f64();
+        job::finish(&solved, common, start, load, render_seconds)
+    })
+}

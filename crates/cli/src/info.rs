@@ -1,0 +1,121 @@
+//! `radiosity info SCENE`: what a scene holds, without solving it.
+//!
+//! Counts (objects, materials, polygons, patches — one per lit side — and the elements the
+//! subdivision would make), the surface area, the emitted power Φ = Σ A·π·L_e per channel
+//! (W when lengths are metres), the bounding box, the cameras, and the warnings of loading.
+
+use std::io::Write;
+
+use anyhow::Result;
+use radiosity::mesh::{Mesh, Subdivision};
+use radiosity::Rgb;
+use radiosity::Scene;
+
+use crate::args::InfoArgs;
+
+/// `radiosity info`.
+pub fn run(args: &InfoArgs) -> Result<()> {
+    let scene = Scene::resolve(&args.scene)?;
+    let subdivision = match (args.elements, args.max_element_area) {
+        (_, Some(a)) => Subdivision::MaxArea(a),
+        (Some(n), None) => Subdivision::Elements(usize::try_from(n).unwrap_or(usize::MAX)),
+        (None, None) => Subdivision::default(),
+    };
+    let mesh = Mesh::build(&scene, subdivision);
+    let mut out = std::io::stdout().lock();
+    write!(out, "{}", report(&scene, &mesh))?;
+    Ok(())
+}
+
+/// The report, one fact per line.
+fn report(scene: &Scene, mesh: &Mesh) -> String {
+    let front = || mesh.patches.iter().filter(|p| !p.back);
+    let area: f64 = front().map(|p| p.area).sum();
+    let emitted: Rgb = mesh.patches.iter().map(|p| p.area * p.emission).sum();
+    let corners = || scene.polygons.iter().flat_map(|p| &p.vertices);
+    let (lo, hi) = corners().fold(
+        (corners().next().copied(), corners().next().copied()),
+        |(lo, hi), v| (lo.map(|l| l.min(*v)), hi.map(|h| h.max(*v))),
+    );
+    let emitters = scene.materials.iter().filter(|m| m.is_emitter()).count();
+    let cameras: Vec<&str> = scene.cameras.iter().map(|c| c.name.as_str()).collect();
+    let mut s = String::new();
+    let mut line = |k: &str, v: String| s.push_str(&format!("{k:<14}{v}\n"));
+    line("scene", scene.name.clone());
+    line("objects", scene.objects.len().to_string());
+    line(
+        "materials",
+        format!("{} ({emitters} emitting)", scene.materials.len()),
+    );
+    line("polygons", scene.polygons.len().to_string());
+    line(
+        "patches",
+        format!(
+            "{} ({} two-sided backs)",
+            mesh.patches.len(),
+            mesh.patches.len() - front().count()
+        ),
+    );
+    line("elements", mesh.element_count().to_string());
+    line("area", format!("{area:.6} units²"));
+    line(
+        "emitted",
+        format!(
+            "{:.6} {:.6} {:.6} W (per channel)",
+            emitted.x, emitted.y, emitted.z
+        ),
+    );
+    if let (Some(lo), Some(hi)) = (lo, hi) {
+        line(
+            "bounds",
+            format!(
+                "[{:.4}, {:.4}, {:.4}] – [{:.4}, {:.4}, {:.4}]",
+                lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
+            ),
+        );
+    }
+    line("cameras", cameras.join(", "));
+    line("warnings", scene.warnings.len().to_string());
+    for w in &scene.warnings {
+        s.push_str(&format!("  warning: {w}\n"));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cornell_report_has_its_facts() {
+        let scene = Scene::resolve("cornell").expect("built-in");
+        let mesh = Mesh::build(&scene, Subdivision::Elements(100));
+        let r = report(&scene, &mesh);
+        // The emitted power is Σ A·π·L_e over the light's front patches.
+        let light: f64 = scene
+            .polygons
+            .iter()
+            .filter(|p| scene.materials[p.material].is_emitter())
+            .map(|p| {
+                let v = &p.vertices;
+                let a = (1..v.len() - 1)
+                    .map(|i| (v[i] - v[0]).cross(v[i + 1] - v[0]))
+                    .fold(v[0] * 0.0, |a, b| a + b);
+                f64::from(a.length()) / 2.0 * scene.materials[p.material].emission.x
+            })
+            .sum::<f64>()
+            * std::f64::consts::PI;
+        let emitted: f64 = r
+            .lines()
+            .find(|l| l.starts_with("emitted"))
+            .and_then(|l| l.split_whitespace().nth(1))
+            .and_then(|v| v.parse().ok())
+            .expect("emitted line");
+        assert!(
+            (emitted - light).abs() <= 1e-4 * light,
+            "{emitted} vs {light}"
+        );
+        assert!(r.contains(&format!("elements      {}", mesh.element_count())));
+        assert!(r.contains("bounds"));
+    }
+}

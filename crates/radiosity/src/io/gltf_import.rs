@@ -1,0 +1,522 @@
+//! glTF 2.0 import (`.gltf` with its buffers, or binary `.glb`), through the `gltf` crate.
+//!
+//! What is read (Khronos glTF 2.0 specification, §3.5 "Geometry", §3.9 "Materials"):
+//!
+//! - every node of the default scene (else the first, else every root node), with its world
+//!   transform M = M_root · … · M_node (column-major 4×4); a mirroring transform (det M < 0)
+//!   reverses the triangles so that fronts stay fronts;
+//! - triangle primitives (`TRIANGLES`, `TRIANGLE_STRIP`, `TRIANGLE_FAN`), indexed or not; points
+//!   and lines are skipped with a warning;
+//! - materials: reflectance ρ = `baseColorFactor` (RGB; clamped to [`MAX_REFLECTANCE`] with a
+//!   warning, since ρ ≥ 1 would create energy); emitted radiance
+//!   L_e = `emissiveFactor` × `KHR_materials_emissive_strength`; `doubleSided` → two-sided.
+//!   Textures are ignored (with a warning): a radiosity patch has one reflectance;
+//! - `COLOR_0` per vertex, kept for round trips (white where absent, as the specification says);
+//! - perspective cameras: the eye at M·(0,0,0), looking down M's −z with M's +y up, `yfov` as the
+//!   vertical field of view. Orthographic cameras are skipped with a warning.
+//!
+//! An object is named after its node (else its mesh, else `node{i}`); nodes that share a name
+//! are one object. Buffers are the GLB binary chunk, `data:` URIs (base64) or files relative to
+//! the `.gltf` file.
+//!
+//! The result is a [`GltfFile`]: an indexed polygon mesh in the same form as an OBJ file
+//! ([`ObjFile`]), so the scene builder treats both alike. [`crate::Scene::load`] takes `.gltf`
+//! and `.glb` files as whole scenes, and a scene's `mesh` objects may name them.
+//!
+//! ```
+//! use std::path::Path;
+//! // A minimal glTF: one triangle, positions in a base64 data URI, no material.
+//! let json = r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}],
+//!   "nodes": [{"name": "tri", "mesh": 0}],
+//!   "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+//!   "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+//!                  "min": [0, 0, 0], "max": [1, 1, 0]}],
+//!   "bufferViews": [{"buffer": 0, "byteLength": 36}],
+//!   "buffers": [{"byteLength": 36, "uri":
+//!     "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]}"#;
+//! let g = radiosity::io::gltf_import::parse_gltf(json.as_bytes(), Path::new("tri.gltf"))?;
+//! assert_eq!((g.mesh.faces.len(), g.mesh.groups[0].as_str()), (1, "tri"));
+//! # Ok::<(), radiosity::scene::SceneError>(())
+//! ```
+
+use std::path::Path;
+
+use glam::{Mat4, Vec3};
+use gltf::mesh::Mode;
+
+use super::obj::{ObjFace, ObjFile};
+use crate::scene::{Camera, Material, SceneError};
+use crate::Rgb;
+
+/// The largest reflectance an imported material keeps (glTF's default base colour is 1).
+pub const MAX_REFLECTANCE: f64 = 0.99;
+
+/// An imported glTF file.
+#[derive(Clone, Debug, Default)]
+pub struct GltfFile {
+    /// World-space positions, faces (triangles), object names (`groups`), materials and
+    /// warnings.
+    pub mesh: ObjFile,
+    /// `COLOR_0` per vertex of [`GltfFile::mesh`] (linear RGB; white where absent).
+    pub colours: Vec<Rgb>,
+    /// Perspective cameras, in node order.
+    pub cameras: Vec<Camera>,
+}
+
+/// Reads a `.gltf` or `.glb` file.
+///
+/// # Errors
+/// The file or one of its buffers cannot be read, or it is not valid glTF 2.0; the error names
+/// the file.
+pub fn read_gltf(path: &Path) -> Result<GltfFile, SceneError> {
+    let bytes =
+        std::fs::read(path).map_err(|e| SceneError::in_file(path, format!("cannot read: {e}")))?;
+    parse_gltf(&bytes, path)
+}
+
+/// Parses glTF from memory; `file` names it in messages and locates external buffers.
+///
+/// # Errors
+/// As [`read_gltf`].
+pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
+    let err = |m: String| SceneError::in_file(file, m);
+    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| err(format!("invalid glTF: {e}")))?;
+    let buffers = load_buffers(&gltf, file)?;
+    let doc = &gltf.document;
+    let mut out = GltfFile::default();
+
+    // Materials: the glTF ones in order, then the default material (for primitives without one).
+    let mut clamped = Vec::new();
+    for m in doc.materials() {
+        let name = m.name().map_or_else(
+            || format!("material{}", out.mesh.materials.len()),
+            str::to_string,
+        );
+        if m.pbr_metallic_roughness().base_color_texture().is_some()
+            || m.emissive_texture().is_some()
+        {
+            out.mesh.warnings.push(format!(
+                "{}: material `{name}`: textures are ignored; its factors are used",
+                file.display()
+            ));
+        }
+        let material = material(&m, &name, &mut clamped);
+        out.mesh.materials.push(material);
+    }
+    let default_material = out.mesh.materials.len();
+    out.mesh.materials.push(Material {
+        name: "default".into(),
+        reflectance: Rgb::splat(MAX_REFLECTANCE),
+        ..Material::default()
+    });
+    if !clamped.is_empty() {
+        out.mesh.warnings.push(format!(
+            "{}: base colour ≥ {MAX_REFLECTANCE} clamped to {MAX_REFLECTANCE} (a reflectance must stay below 1) in material(s): {}",
+            file.display(),
+            clamped.join(", ")
+        ));
+    }
+    out.mesh.groups.clear();
+
+    // Nodes from the roots down, with their world transforms.
+    let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            let mut is_child = vec![false; doc.nodes().len()];
+            for n in doc.nodes() {
+                for c in n.children() {
+                    is_child[c.index()] = true;
+                }
+            }
+            doc.nodes().filter(|n| !is_child[n.index()]).collect()
+        }
+    };
+    let mut stack: Vec<(gltf::Node, Mat4)> =
+        roots.into_iter().map(|n| (n, Mat4::IDENTITY)).collect();
+    stack.reverse();
+    let mut skipped_modes = 0usize;
+    let mut depth_guard = 0usize;
+    let mut used_default = false;
+    while let Some((node, parent)) = stack.pop() {
+        // Validation rejects cycles; the guard keeps a bad file from looping anyway.
+        depth_guard += 1;
+        if depth_guard > 16 * doc.nodes().len() + 16 {
+            return Err(err("the node hierarchy is not a tree".into()));
+        }
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        if let Some(camera) = node.camera() {
+            match camera.projection() {
+                gltf::camera::Projection::Perspective(p) => {
+                    let name = camera
+                        .name()
+                        .or(node.name())
+                        .map_or_else(|| format!("camera{}", out.cameras.len()), str::to_string);
+                    out.cameras.push(Camera {
+                        name,
+                        eye: world.transform_point3(Vec3::ZERO),
+                        target: world.transform_point3(Vec3::ZERO)
+                            + world.transform_vector3(-Vec3::Z),
+                        up: world.transform_vector3(Vec3::Y),
+                        fov_y: p.yfov().to_degrees(),
+                    });
+                }
+                gltf::camera::Projection::Orthographic(_) => out.mesh.warnings.push(format!(
+                    "{}: node {}: orthographic camera skipped",
+                    file.display(),
+                    node.index()
+                )),
+            }
+        }
+        if let Some(mesh) = node.mesh() {
+            let name = node
+                .name()
+                .or(mesh.name())
+                .map_or_else(|| format!("node{}", node.index()), str::to_string);
+            let group = match out.mesh.groups.iter().position(|g| *g == name) {
+                Some(i) => i,
+                None => {
+                    out.mesh.groups.push(name);
+                    out.mesh.groups.len() - 1
+                }
+            };
+            let mirrors = world.determinant() < 0.0;
+            for primitive in mesh.primitives() {
+                let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+                let Some(positions) = reader.read_positions() else {
+                    continue;
+                };
+                let base = out.mesh.positions.len() as u32;
+                out.mesh
+                    .positions
+                    .extend(positions.map(|p| world.transform_point3(Vec3::from_array(p))));
+                let count = out.mesh.positions.len() - base as usize;
+                match reader.read_colors(0) {
+                    Some(c) => out.colours.extend(
+                        c.into_rgb_f32()
+                            .map(|c| Vec3::from_array(c).as_dvec3())
+                            .chain(std::iter::repeat(Rgb::ONE))
+                            .take(count),
+                    ),
+                    None => out.colours.extend(std::iter::repeat_n(Rgb::ONE, count)),
+                }
+                let indices: Vec<u32> = match reader.read_indices() {
+                    Some(i) => i.into_u32().collect(),
+                    None => (0..count as u32).collect(),
+                };
+                if indices.iter().any(|&i| i as usize >= count) {
+                    return Err(err(format!(
+                        "mesh `{}`: an index is out of range",
+                        mesh.name().unwrap_or("")
+                    )));
+                }
+                let material = primitive.material().index().unwrap_or_else(|| {
+                    used_default = true;
+                    default_material
+                });
+                let Some(triangles) = triangles(primitive.mode(), &indices) else {
+                    skipped_modes += 1;
+                    continue;
+                };
+                for t in triangles {
+                    let mut t = t.map(|i| base + i);
+                    if mirrors {
+                        t.swap(1, 2);
+                    }
+                    if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                        continue;
+                    }
+                    out.mesh.faces.push(ObjFace {
+                        indices: t.to_vec(),
+                        group,
+                        material,
+                        line: 0,
+                    });
+                }
+            }
+        }
+        for child in node.children().collect::<Vec<_>>().into_iter().rev() {
+            stack.push((child, world));
+        }
+    }
+    if used_default {
+        out.mesh.warnings.push(format!(
+            "{}: primitives without a material use a grey default (ρ = {MAX_REFLECTANCE})",
+            file.display()
+        ));
+    }
+    if skipped_modes > 0 {
+        out.mesh.warnings.push(format!(
+            "{}: skipped {skipped_modes} point or line primitive(s)",
+            file.display()
+        ));
+    }
+    Ok(out)
+}
+
+/// A glTF material as a radiosity material; its name is pushed to `clamped` when its base
+/// colour had to be brought below 1.
+fn material(m: &gltf::Material, name: &str, clamped: &mut Vec<String>) -> Material {
+    let base = m.pbr_metallic_roughness().base_color_factor();
+    let base = Rgb::new(f64::from(base[0]), f64::from(base[1]), f64::from(base[2]));
+    if base.max_element() > MAX_REFLECTANCE {
+        clamped.push(format!("`{name}`"));
+    }
+    let strength = f64::from(m.emissive_strength().unwrap_or(1.0));
+    let emission = Vec3::from_array(m.emissive_factor()).as_dvec3() * strength;
+    Material {
+        name: name.to_string(),
+        reflectance: base.clamp(Rgb::ZERO, Rgb::splat(MAX_REFLECTANCE)),
+        emission: emission.max(Rgb::ZERO),
+        two_sided: m.double_sided(),
+        ..Material::default()
+    }
+}
+
+/// The triangles of a primitive's index list, or `None` for points and lines.
+fn triangles(mode: Mode, indices: &[u32]) -> Option<Vec<[u32; 3]>> {
+    let n = indices.len();
+    Some(match mode {
+        Mode::Triangles => indices
+            .chunks_exact(3)
+            .map(|t| [t[0], t[1], t[2]])
+            .collect(),
+        // Every other strip triangle is flipped back to the strip's winding (§3.7.2.1).
+        Mode::TriangleStrip => (0..n.saturating_sub(2))
+            .map(|i| {
+                let (a, b, c) = (indices[i], indices[i + 1], indices[i + 2]);
+                if i % 2 == 0 {
+                    [a, b, c]
+                } else {
+                    [b, a, c]
+                }
+            })
+            .collect(),
+        Mode::TriangleFan => (1..n.saturating_sub(1))
+            .map(|i| [indices[0], indices[i], indices[i + 1]])
+            .collect(),
+        Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip => return None,
+    })
+}
+
+/// The bytes of every buffer, in order: the GLB binary chunk, a `data:` URI or a file.
+fn load_buffers(gltf: &gltf::Gltf, file: &Path) -> Result<Vec<Vec<u8>>, SceneError> {
+    let mut out = Vec::new();
+    for buffer in gltf.document.buffers() {
+        let err = |m: String| SceneError::in_file(file, format!("buffer {}: {m}", buffer.index()));
+        let data = match buffer.source() {
+            gltf::buffer::Source::Bin => gltf
+                .blob
+                .clone()
+                .ok_or_else(|| err("the GLB binary chunk is missing".into()))?,
+            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
+                let payload = uri
+                    .split_once(";base64,")
+                    .map(|(_, p)| p)
+                    .ok_or_else(|| err("only base64 data URIs are supported".into()))?;
+                decode_base64(payload).ok_or_else(|| err("malformed base64 data".into()))?
+            }
+            gltf::buffer::Source::Uri(uri) => {
+                let path = file
+                    .parent()
+                    .unwrap_or(Path::new(""))
+                    .join(percent_decode(uri));
+                std::fs::read(&path)
+                    .map_err(|e| err(format!("cannot read `{}`: {e}", path.display())))?
+            }
+        };
+        if data.len() < buffer.length() {
+            return Err(err(format!(
+                "holds {} bytes, fewer than its byteLength {}",
+                data.len(),
+                buffer.length()
+            )));
+        }
+        out.push(data);
+    }
+    Ok(out)
+}
+
+/// Decodes standard base64 (RFC 4648 §4), padding optional; `None` on a bad character.
+fn decode_base64(text: &str) -> Option<Vec<u8>> {
+    let mut out = Vec::with_capacity(text.len() * 3 / 4);
+    let (mut acc, mut bits) = (0u32, 0u32);
+    for c in text
+        .bytes()
+        .filter(|&c| c != b'=' && !c.is_ascii_whitespace())
+    {
+        let v = match c {
+            b'A'..=b'Z' => c - b'A',
+            b'a'..=b'z' => c - b'a' + 26,
+            b'0'..=b'9' => c - b'0' + 52,
+            b'+' => 62,
+            b'/' => 63,
+            _ => return None,
+        };
+        acc = (acc << 6) | u32::from(v);
+        bits += 6;
+        if bits >= 8 {
+            bits -= 8;
+            out.push((acc >> bits) as u8);
+            acc &= (1 << bits) - 1;
+        }
+    }
+    Some(out)
+}
+
+/// Decodes `%XX` escapes of a relative URI (RFC 3986 §2.1); malformed escapes stay as written.
+fn percent_decode(uri: &str) -> String {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = bytes
+            .get(i + 1..i + 3)
+            .and_then(|h| std::str::from_utf8(h).ok())
+            .and_then(|h| u8::from_str_radix(h, 16).ok());
+        match (bytes[i], hex) {
+            (b'%', Some(b)) => {
+                out.push(b);
+                i += 3;
+            }
+            (b, _) => {
+                out.push(b);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A `.gltf` with one triangle in a data URI, under a node that translates by (0, 0, −2)
+    /// and mirrors x, a red half-reflective two-sided emitter of strength 5, and a camera.
+    fn sample() -> String {
+        // Positions (0,0,0), (1,0,0), (0,1,0) as little-endian f32.
+        let floats = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+        let bytes: Vec<u8> = floats.iter().flat_map(|f| f.to_le_bytes()).collect();
+        let b64 = encode_base64(&bytes);
+        format!(
+            r#"{{
+  "asset": {{"version": "2.0"}},
+  "extensionsUsed": ["KHR_materials_emissive_strength"],
+  "scene": 0,
+  "scenes": [{{"nodes": [0, 2]}}],
+  "nodes": [
+    {{"name": "parent", "translation": [0, 0, -2], "children": [1]}},
+    {{"name": "tri", "mesh": 0, "scale": [-1, 1, 1]}},
+    {{"name": "cam", "camera": 0, "translation": [0, 1, 5]}}
+  ],
+  "cameras": [{{"type": "perspective", "perspective": {{"yfov": 0.5, "znear": 0.1}}}}],
+  "meshes": [{{"name": "m", "primitives": [{{"attributes": {{"POSITION": 0}}, "material": 0}}]}}],
+  "materials": [{{"name": "lamp", "doubleSided": true,
+    "pbrMetallicRoughness": {{"baseColorFactor": [0.5, 1.0, 0.25, 1.0]}},
+    "emissiveFactor": [1.0, 0.5, 0.0],
+    "extensions": {{"KHR_materials_emissive_strength": {{"emissiveStrength": 5.0}}}}}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+    "min": [0, 0, 0], "max": [1, 1, 0]}}],
+  "bufferViews": [{{"buffer": 0, "byteLength": 36}}],
+  "buffers": [{{"byteLength": 36, "uri": "data:application/octet-stream;base64,{b64}"}}]
+}}"#
+        )
+    }
+
+    fn encode_base64(bytes: &[u8]) -> String {
+        const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let mut s = String::new();
+        for chunk in bytes.chunks(3) {
+            let b = [
+                chunk[0],
+                *chunk.get(1).unwrap_or(&0),
+                *chunk.get(2).unwrap_or(&0),
+            ];
+            let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+            for k in 0..4 {
+                if k <= chunk.len() {
+                    s.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
+                } else {
+                    s.push('=');
+                }
+            }
+        }
+        s
+    }
+
+    #[test]
+    fn transforms_materials_and_cameras_are_read() {
+        let g = parse_gltf(sample().as_bytes(), Path::new("t.gltf")).expect("valid");
+        // Mirrored by scale −1 in x, then moved to z = −2: (0,0,−2), (−1,0,−2), (0,1,−2),
+        // with the winding reversed so the face still points the way it did (+z).
+        assert_eq!(g.mesh.faces.len(), 1);
+        let corners = g.mesh.faces[0].positions(&g.mesh);
+        assert_eq!(
+            corners,
+            [
+                Vec3::new(0.0, 0.0, -2.0),
+                Vec3::new(0.0, 1.0, -2.0),
+                Vec3::new(-1.0, 0.0, -2.0)
+            ]
+        );
+        let n = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+        assert!(n.z > 0.0, "front must stay +z: {n}");
+        assert_eq!(g.mesh.groups, ["tri"]);
+        let m = &g.mesh.materials[g.mesh.faces[0].material];
+        assert_eq!(m.name, "lamp");
+        assert_eq!(m.reflectance, Rgb::new(0.5, MAX_REFLECTANCE, 0.25));
+        assert_eq!(m.emission, Rgb::new(5.0, 2.5, 0.0));
+        assert!(m.two_sided);
+        assert!(
+            g.mesh.warnings.iter().any(|w| w.contains("clamped")),
+            "{:?}",
+            g.mesh.warnings
+        );
+        assert_eq!(g.colours, vec![Rgb::ONE; 3]);
+        let c = &g.cameras[0];
+        assert_eq!(c.name, "cam");
+        assert_eq!(c.eye, Vec3::new(0.0, 1.0, 5.0));
+        assert_eq!(c.target, Vec3::new(0.0, 1.0, 4.0));
+        assert!((c.fov_y - 0.5f32.to_degrees()).abs() < 1e-4);
+    }
+
+    #[test]
+    fn strips_and_fans_keep_their_winding() {
+        // Strip 0 1 2 3: triangles (0 1 2) and (2 1 3); fan 0 1 2 3: (0 1 2) and (0 2 3).
+        assert_eq!(
+            triangles(Mode::TriangleStrip, &[0, 1, 2, 3]),
+            Some(vec![[0, 1, 2], [2, 1, 3]])
+        );
+        assert_eq!(
+            triangles(Mode::TriangleFan, &[0, 1, 2, 3]),
+            Some(vec![[0, 1, 2], [0, 2, 3]])
+        );
+        assert_eq!(triangles(Mode::Lines, &[0, 1]), None);
+    }
+
+    #[test]
+    fn base64_and_percent_decoding() {
+        for s in ["", "a", "ab", "abc", "abcd", "hello world!"] {
+            assert_eq!(
+                decode_base64(&encode_base64(s.as_bytes())).as_deref(),
+                Some(s.as_bytes())
+            );
+        }
+        assert_eq!(decode_base64("a*b"), None);
+        assert_eq!(percent_decode("my%20mesh.bin"), "my mesh.bin");
+        assert_eq!(percent_decode("100%"), "100%");
+    }
+
+    #[test]
+    fn bad_input_is_an_error_not_a_panic() {
+        for bad in ["", "{", "{\"asset\":{}}", "glTF\u{2}\0\0\0"] {
+            assert!(
+                parse_gltf(bad.as_bytes(), Path::new("x.glb")).is_err(),
+                "{bad:?}"
+            );
+        }
+        let short = sample().replace("\"byteLength\": 36, \"uri\"", "\"byteLength\": 48, \"uri\"");
+        let e = parse_gltf(short.as_bytes(), Path::new("x.gltf")).expect_err("short buffer");
+        assert!(e.to_string().contains("x.gltf"), "{e}");
+    }
+}

@@ -1,0 +1,268 @@
+//! A Whitted ray tracer whose diffuse light comes from the radiosity solution: the two-pass
+//! method of Wallace, Cohen & Greenberg (1987), "A two-pass solution to the rendering equation".
+//!
+//! Radiosity alone has no view-dependent (specular) transport; classic ray tracing alone
+//! (Whitted 1980, "An improved illumination model for shaded display") has no diffuse
+//! interreflection. Here the first pass, the radiosity solve, computes the diffuse light; the
+//! second pass follows the specular paths from the eye. At each hit x seen along −ω:
+//!
+//! L(x, ω) = L_d(x) + k_r · L(x, ω_r) + k_t · L(x, ω_t),
+//!
+//! - L_d(x) = B(x)/π, the lit mesh interpolated at the hit ([`world`]); B includes the
+//!   emitted exitance, so emitters show L_e.
+//! - Mirror: ω_r = reflect(ω), k_r = `specular`.
+//! - Dielectric (`transmission` ≠ 0): Fresnel reflectance F (exact, [`optics`]) at η = `ior`
+//!   (entering where the ray meets a front, leaving at a back); k_r = s + (1 − s)F,
+//!   k_t = (1 − s)(1 − F) with s = `specular` (a mirror coat); total internal reflection gives
+//!   F = 1. Inside the object light is absorbed by Beer–Lambert's law: over a length ℓ the
+//!   transmittance is T^(ℓ/D), T = `transmission`, D the object's size (largest bounding-box
+//!   side), so `transmission` is the colour of the glass seen through its full thickness. A
+//!   segment is inside the object when it ends on the object's back.
+//! - Recursion stops at [`RaytraceSettings::max_depth`], or when the path's weight drops below
+//!   [`MIN_WEIGHT`].
+//!
+//! **Final gather** ([`RaytraceSettings::gather`] = N > 0). Interpolated radiosity shows the
+//! mesh: shadows as soft as the elements are large, Mach bands along element edges. At a
+//! diffuse hit reached from the eye with weight ≥ [`GATHER_WEIGHT`], the reflected radiance is
+//! instead recomputed per pixel (Reichert 1992; Lischinski et al. 1993):
+//!
+//! L_d(x) = L_e + ρ/π · (E_direct(x) + E_indirect(x)),
+//!
+//! E_direct from [`RaytraceSettings::shadow_samples`] stratified samples of the emitters with
+//! shadow rays (soft shadows, exact to the sampling), and E_indirect = (π/N) Σ (B(y) − E(y))/π
+//! over N cosine-distributed rays hitting y, the radiosity solution less its emission (the
+//! emitters are already counted in E_direct).
+//!
+//! **Light paths** (Heckbert 1990): the radiosity pass carries L D* and the eye sees it through
+//! mirrors and glass: L D* S* E. Missing are paths where a specular bounce comes before a
+//! diffuse one, L (D|S)* S D (D|S)* E — caustics under the glass sphere, light reflected by a
+//! mirror onto a wall — since the radiosity pass sees specular surfaces only by their diffuse
+//! part and shadow rays stop at glass. See `docs/raytracing.md`.
+//!
+//! **Sampling.** s × s jittered samples per pixel, parallel over tiles, hashed random numbers:
+//! the image is the same for any number of threads ([`sample`]).
+
+pub mod optics;
+pub mod sample;
+pub mod world;
+
+use glam::Vec3;
+
+use self::optics::{fresnel_dielectric, reflect, refract};
+use self::sample::{cosine_direction, render_tiles, Sampler};
+use self::world::{SurfaceHit, World};
+use super::{Image, Projection, RasterSettings};
+use crate::mesh::{LitMesh, Mesh};
+use crate::scene::Camera;
+use crate::{Rgb, Scene};
+
+/// Paths whose weight (largest channel) falls below this are not followed further.
+pub const MIN_WEIGHT: f64 = 1e-3;
+/// Diffuse hits with a smaller path weight read the lit mesh instead of gathering.
+pub const GATHER_WEIGHT: f64 = 0.1;
+
+/// Options of the ray tracer (the image size and samples per pixel are [`RasterSettings`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RaytraceSettings {
+    /// Most specular bounces along a path.
+    pub max_depth: u32,
+    /// Final-gather rays per diffuse hit (0: read the lit mesh).
+    pub gather: u32,
+    /// Emitter samples per final gather (soft shadows).
+    pub shadow_samples: u32,
+    /// Jitter the samples inside their sub-squares (`false`: sub-square centres, exactly where
+    /// the rasterizer samples).
+    pub jitter: bool,
+}
+
+impl Default for RaytraceSettings {
+    fn default() -> Self {
+        Self {
+            max_depth: 8,
+            gather: 0,
+            shadow_samples: 16,
+            jitter: true,
+        }
+    }
+}
+
+/// Whether any material of `scene` reflects specularly or transmits, so that ray tracing shows
+/// something the radiosity image does not.
+#[must_use]
+pub fn has_specular(scene: &Scene) -> bool {
+    scene
+        .materials
+        .iter()
+        .any(|m| m.specular.max_element() > 0.0 || m.transmission.max_element() > 0.0)
+}
+
+/// Ray traces the radiance image of the solved scene: `lit` is the lit mesh of `mesh`, which
+/// was built from `scene`. Never panics on degenerate input; rays that leave the scene see
+/// black.
+#[must_use]
+pub fn render(
+    scene: &Scene,
+    mesh: &Mesh,
+    lit: &LitMesh,
+    camera: &Camera,
+    image: &RasterSettings,
+    settings: &RaytraceSettings,
+) -> Image {
+    let world = World::new(scene, mesh, lit);
+    let proj = Projection::new(camera, image.width, image.height);
+    let tracer = Tracer {
+        world: &world,
+        settings,
+    };
+    render_tiles(
+        image.width,
+        image.height,
+        image.samples_per_pixel,
+        settings.jitter,
+        |px, py, sampler| {
+            let (origin, dir) = proj.primary_ray(px, py);
+            tracer.trace(origin, dir, 0, Rgb::ONE, sampler)
+        },
+    )
+}
+
+/// The recursive tracer.
+struct Tracer<'a> {
+    world: &'a World<'a>,
+    settings: &'a RaytraceSettings,
+}
+
+impl Tracer<'_> {
+    /// Radiance arriving at `origin` from unit direction `dir`, on a path of weight `weight`
+    /// after `depth` specular bounces.
+    fn trace(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        depth: u32,
+        weight: Rgb,
+        sampler: &mut Sampler,
+    ) -> Rgb {
+        let world = self.world;
+        let Some(hit) = world.intersect(origin, dir, f32::INFINITY) else {
+            return Rgb::ZERO;
+        };
+        let material = world.material(hit.triangle);
+        let mut radiance = match hit.diffuse {
+            Some(_) if self.gathers(material.reflectance, weight) => {
+                let emitted = if hit.front {
+                    world.emitted(hit.triangle)
+                } else {
+                    Rgb::ZERO
+                };
+                emitted + material.reflectance * self.gather(&hit, sampler)
+            }
+            Some(d) => world.radiance(d),
+            None => Rgb::ZERO,
+        };
+        let transmissive = material.transmission.max_element() > 0.0;
+        let reflective = material.specular.max_element() > 0.0 && (hit.front || material.two_sided);
+        if depth < self.settings.max_depth && (transmissive || reflective) {
+            let s = material.specular;
+            let (k_r, k_t) = if transmissive {
+                let ior = material.ior.max(1e-3);
+                let (eta_i, eta_t) = if hit.front { (1.0, ior) } else { (ior, 1.0) };
+                let cos_i = f64::from(-dir.dot(hit.shading));
+                let f = fresnel_dielectric(cos_i, eta_i, eta_t);
+                (s + (Rgb::ONE - s) * f, (Rgb::ONE - s) * (1.0 - f))
+            } else {
+                (s, Rgb::ZERO)
+            };
+            radiance += self.follow(&hit, reflect(dir, hit.shading), k_r, depth, weight, sampler);
+            if k_t.max_element() > 0.0 {
+                let eta = if hit.front {
+                    1.0 / material.ior as f32
+                } else {
+                    material.ior as f32
+                };
+                if let Some(t) = refract(dir, hit.shading, eta) {
+                    radiance += self.follow(&hit, t, k_t, depth, weight, sampler);
+                }
+            }
+        }
+        if transmissive && !hit.front {
+            // The segment just travelled lay inside the object: Beer–Lambert absorption.
+            let size = f64::from(world.object_size(world.object(hit.triangle)));
+            if size > 0.0 {
+                let x = f64::from(hit.t) / size;
+                let t = material.transmission;
+                radiance *= Rgb::new(t.x.powf(x), t.y.powf(x), t.z.powf(x));
+            }
+        }
+        radiance
+    }
+
+    /// k · L along `dir` from the hit, if the path's weight stays worth following.
+    fn follow(
+        &self,
+        hit: &SurfaceHit,
+        dir: Vec3,
+        k: Rgb,
+        depth: u32,
+        weight: Rgb,
+        sampler: &mut Sampler,
+    ) -> Rgb {
+        let w = weight * k;
+        if w.max_element() < MIN_WEIGHT || !dir.is_finite() {
+            return Rgb::ZERO;
+        }
+        let origin = offset(hit, dir, self.world.epsilon());
+        k * self.trace(origin, dir, depth + 1, w, sampler)
+    }
+
+    /// Whether a diffuse hit of reflectance `rho` on a path of weight `weight` gathers.
+    fn gathers(&self, rho: Rgb, weight: Rgb) -> bool {
+        self.settings.gather > 0 && rho.max_element() > 0.0 && weight.max_element() >= GATHER_WEIGHT
+    }
+
+    /// Irradiance / π at the hit: direct from the emitters (stratified, with shadows) plus
+    /// indirect from the radiosity solution seen by cosine-distributed rays.
+    fn gather(&self, hit: &SurfaceHit, sampler: &mut Sampler) -> Rgb {
+        let world = self.world;
+        let n = hit.shading;
+        let direct = world.direct(
+            hit.point,
+            n,
+            self.settings.shadow_samples,
+            true,
+            sampler,
+            |_| Rgb::ONE,
+        );
+        let rays = self.settings.gather;
+        let mut indirect = Rgb::ZERO;
+        for k in 0..rays {
+            let u1 = (k as f32 + sampler.next_f32()) / rays as f32;
+            let dir = cosine_direction(n, u1, sampler.next_f32());
+            if dir.dot(hit.normal) <= 0.0 {
+                continue;
+            }
+            let origin = hit.point + hit.normal * world.epsilon();
+            if let Some(y) = world.intersect(origin, dir, f32::INFINITY) {
+                if let Some(d) = y.diffuse {
+                    let emitted = if y.front {
+                        world.emitted(y.triangle)
+                    } else {
+                        Rgb::ZERO
+                    };
+                    indirect += (world.radiance(d) - emitted).max(Rgb::ZERO);
+                }
+            }
+        }
+        // E_indirect = π · mean(L); both terms are returned divided by π.
+        direct / std::f64::consts::PI + indirect / f64::from(rays.max(1))
+    }
+}
+
+/// The start of a ray leaving `hit` along `dir`: pushed off the surface to the side `dir` goes.
+fn offset(hit: &SurfaceHit, dir: Vec3, eps: f32) -> Vec3 {
+    if dir.dot(hit.normal) >= 0.0 {
+        hit.point + hit.normal * eps
+    } else {
+        hit.point - hit.normal * eps
+    }
+}

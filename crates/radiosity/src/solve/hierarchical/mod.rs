@@ -1,0 +1,280 @@
+//! Hierarchical radiosity with clustering (Hanrahan, Salzman & Aupperle 1991; Smits, Arvo &
+//! Greenberg 1994).
+//!
+//! The full-matrix solvers couple every element with every source: n² form factors. Most of
+//! those couplings move almost no light, and a far group of elements can be treated as one.
+//! Hierarchical radiosity keeps a *link* between two nodes of a hierarchy — quadtree nodes of
+//! the patches ([`crate::mesh::Mesh`]) and, above them, clusters of root faces
+//! ([`cluster`]) — only as fine as the light it carries requires:
+//!
+//! ```text
+//! B_r = E_r + ρ_r Σ_{links (q, s), q ⊇ r} F_qs V_qs B_s
+//! ```
+//!
+//! 1. **Refine** ([`refine`]): start from the root cluster linked with itself; split a link
+//!    while B_s·F_rs·A_r > ε·Φ (BF refinement; Φ the emitted power, so ε is relative), with a
+//!    lower threshold on how much F varies over the receiver; split leaves of the quadtrees on demand
+//!    down to a minimum element area.
+//! 2. **Solve** ([`push_pull`]): gather along the links, push irradiance down, pull radiosity
+//!    up; iterate until the residual (the module [`crate::solve`]'s definition) falls below the
+//!    tolerance.
+//! 3. **Multigrid**: the first refinement uses B = E and a threshold 16ε, solved; then 4ε with
+//!    the new B, solved from the previous solution; then ε, repeated until a round refines
+//!    nothing (at most [`FINAL_PASSES`] times).
+//! 4. **Display refinement**: where an element's radiosity differs from a sibling's by more
+//!    than [`GRADIENT`] of the brightest radiosity (a shadow edge, say), the links it receives
+//!    are split on the receiver side, once ([`DISPLAY_PASSES`]), and the system is solved
+//!    again. The lit mesh ([`crate::mesh::display`]) anchors the T-vertices this leaves, so it
+//!    stays crack-free.
+//!
+//! Both directions of a pair are linked and refined independently (each gathers for its own
+//! receiver); links never join a face with itself, two faces of one patch, or two faces that do not
+//! face each other (those get no link at all).
+//!
+//! Memory: a link is 16 bytes ([`link::Link`]); an element costs its quadtree node
+//! (`size_of::<Node>()`, 64 bytes), its index (4 bytes) and the solver state of
+//! [`push_pull::State`] (56 bytes): [`BYTES_PER_NODE`] for each node of the hierarchy;
+//! a cluster is 48 bytes plus its state (48 bytes).
+
+pub mod cluster;
+pub mod link;
+pub mod push_pull;
+pub mod refine;
+
+use std::time::Instant;
+
+use crate::accel::Bvh;
+use crate::mesh::{Mesh, Node};
+use crate::progress::Progress;
+use crate::stats::HierarchyStats;
+use crate::Rgb;
+use cluster::{Cluster, Clusters};
+use link::{Link, View};
+use push_pull::State;
+use refine::Oracle;
+
+/// Refinement stages of the multigrid; stage k uses the threshold ε·4^(STAGES−1−k).
+pub const STAGES: u32 = 3;
+
+/// Extra refine-and-solve passes at the final ε while refinement still changes links.
+pub const FINAL_PASSES: u32 = 3;
+
+/// Receiver splits by the display criterion.
+pub const DISPLAY_PASSES: u32 = 1;
+
+/// The display criterion: a sibling difference above this fraction of the largest element
+/// radiosity (largest channel) splits an element's links on the receiver side.
+pub const GRADIENT: f64 = 0.05;
+
+/// Default minimum element area, as a fraction of the total surface area.
+pub const MIN_AREA_FRACTION: f64 = 1e-6;
+
+/// Bytes per quadtree node: the node, its element index and its solver state.
+pub const BYTES_PER_NODE: u64 = (std::mem::size_of::<Node>() + 4 + 56) as u64;
+
+/// Bytes per cluster: the cluster, its face index and its solver state.
+pub const BYTES_PER_CLUSTER: u64 = (std::mem::size_of::<Cluster>() + 4 + 48) as u64;
+
+/// What a hierarchical solve returns.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    /// Radiosity of every node of the (refined) mesh: the element's for a leaf, the
+    /// area-weighted mean below it for an interior node.
+    pub node_radiosity: Vec<Rgb>,
+    /// Irradiance of every element of the refined mesh in the last iteration.
+    pub irradiance: Vec<Rgb>,
+    /// Gather iterations over all stages.
+    pub iterations: usize,
+    /// The final residual.
+    pub residual: f64,
+    /// Seconds spent refining (estimating form factors and visibility).
+    pub refine_seconds: f64,
+    /// Seconds spent iterating.
+    pub solve_seconds: f64,
+    /// Links, levels and memory.
+    pub stats: HierarchyStats,
+}
+
+/// Refines `mesh` and solves it hierarchically with the options of `settings` (`epsilon`,
+/// `min_element_area`, `tolerance`, `max_iterations`).
+///
+/// A scene that emits nothing gives B = 0 at once, with no links.
+pub fn run(
+    mesh: &mut Mesh,
+    bvh: &Bvh,
+    settings: &super::Settings,
+    progress: &dyn Progress,
+) -> Outcome {
+    let clusters = Clusters::build(mesh);
+    let mut state = State::new(mesh, &clusters);
+    let area = |n: u32| state.node_area[n as usize];
+    let emitted: f64 = mesh
+        .elements
+        .iter()
+        .map(|&n| {
+            area(n)
+                * mesh.patches[mesh.nodes[n as usize].patch as usize]
+                    .emission
+                    .abs()
+                    .element_sum()
+        })
+        .sum();
+    let peak_power: f64 = mesh
+        .elements
+        .iter()
+        .map(|&n| {
+            area(n)
+                * mesh.patches[mesh.nodes[n as usize].patch as usize]
+                    .emission
+                    .abs()
+                    .max_element()
+        })
+        .sum();
+    let mut out = Outcome {
+        node_radiosity: Vec::new(),
+        irradiance: vec![Rgb::ZERO; mesh.element_count()],
+        iterations: 0,
+        residual: 0.0,
+        refine_seconds: 0.0,
+        solve_seconds: 0.0,
+        stats: HierarchyStats {
+            clusters: clusters.nodes.len(),
+            ..HierarchyStats::default()
+        },
+    };
+    if !(emitted > 0.0 && emitted.is_finite()) {
+        out.node_radiosity = state.node_b;
+        out.stats.peak_memory_bytes = memory(mesh, &clusters, 0);
+        return out;
+    }
+    let epsilon = if settings.epsilon > 0.0 {
+        settings.epsilon
+    } else {
+        super::DEFAULT_EPSILON
+    };
+    let min_area = if settings.min_element_area > 0.0 {
+        settings.min_element_area
+    } else {
+        mesh.total_area() * MIN_AREA_FRACTION
+    };
+    let mut links: Vec<Link> = Vec::new();
+    let mut peak = 0;
+    let passes = STAGES + FINAL_PASSES + DISPLAY_PASSES;
+    progress.start("hierarchical", u64::from(passes));
+    for pass in 0..passes {
+        let stage = pass.min(STAGES - 1);
+        let threshold = epsilon * 4f64.powi((STAGES - 1 - stage) as i32) * peak_power;
+        let display = pass >= STAGES + FINAL_PASSES;
+        let force = if display {
+            gradient_receivers(mesh, &state)
+        } else {
+            Vec::new()
+        };
+        // Refine until no leaf needs splitting.
+        let start = Instant::now();
+        let mut first = pass == 0;
+        let mut refined = 0;
+        loop {
+            let (node_b, cluster_b) = brightness(&state);
+            let oracle = Oracle {
+                threshold,
+                min_area,
+                node_b: &node_b,
+                cluster_b: &cluster_b,
+            };
+            let view = View::new(mesh, &clusters, bvh);
+            let round = if first {
+                refine::start(&view, &oracle)
+            } else {
+                refine::round(&view, &oracle, &links, if display { &force } else { &[] })
+            };
+            first = false;
+            refined += round.refined;
+            peak = peak.max(memory(mesh, &clusters, links.len() + round.links.len()));
+            links = round.links;
+            if round.splits.is_empty() {
+                break;
+            }
+            mesh.refine(&round.splits);
+            state.grow(mesh);
+            refined += round.splits.len() as u64;
+            if display {
+                // Forced receivers are split once; their children are judged by the oracle.
+                break;
+            }
+        }
+        links.sort_unstable_by_key(|l| (l.receiver, l.source));
+        out.refine_seconds += start.elapsed().as_secs_f64();
+        progress.advance(1);
+        if pass > 0 && refined == 0 {
+            continue;
+        }
+        // Solve from the current radiosity.
+        let start = Instant::now();
+        loop {
+            if out.iterations >= settings.max_iterations {
+                break;
+            }
+            let change = state.iterate(mesh, &clusters, &links);
+            out.iterations += 1;
+            out.residual = change / emitted;
+            if out.residual < settings.tolerance {
+                break;
+            }
+        }
+        out.solve_seconds += start.elapsed().as_secs_f64();
+    }
+    progress.finish();
+    out.irradiance = state.element_irradiance(mesh);
+    out.stats.links = links.len() as u64;
+    out.stats.levels = mesh
+        .elements
+        .iter()
+        .map(|&n| u32::from(mesh.nodes[n as usize].level) + 1)
+        .max()
+        .unwrap_or(0);
+    out.stats.peak_memory_bytes = peak;
+    out.node_radiosity = state.node_b;
+    out
+}
+
+/// The largest channel of B of every node and cluster, for the oracle.
+fn brightness(state: &State) -> (Vec<f64>, Vec<f64>) {
+    let max = |b: &Vec<Rgb>| b.iter().map(|b| b.max_element()).collect();
+    (max(&state.node_b), max(&state.cluster_b))
+}
+
+/// Elements whose radiosity differs from a sibling's by more than [`GRADIENT`] of the
+/// brightest element (largest channel), sorted.
+fn gradient_receivers(mesh: &Mesh, state: &State) -> Vec<u32> {
+    let brightest = mesh
+        .elements
+        .iter()
+        .map(|&n| state.node_b[n as usize].max_element())
+        .fold(0.0, f64::max);
+    let limit = GRADIENT * brightest;
+    let mut out = Vec::new();
+    for node in &mesh.nodes {
+        let Some(c) = node.children else { continue };
+        for k in c..c + 4 {
+            if mesh.nodes[k as usize].children.is_some() {
+                continue;
+            }
+            let b = state.node_b[k as usize];
+            let steep =
+                (c..c + 4).any(|j| (state.node_b[j as usize] - b).abs().max_element() > limit);
+            if steep {
+                out.push(k);
+            }
+        }
+    }
+    out.sort_unstable();
+    out
+}
+
+/// Bytes held by the hierarchy with `links` links alive.
+fn memory(mesh: &Mesh, clusters: &Clusters, links: usize) -> u64 {
+    mesh.nodes.len() as u64 * BYTES_PER_NODE
+        + clusters.nodes.len() as u64 * BYTES_PER_CLUSTER
+        + links as u64 * std::mem::size_of::<Link>() as u64
+}

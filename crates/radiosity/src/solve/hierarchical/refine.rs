@@ -1,0 +1,244 @@
+//! The refinement oracle and one refinement round.
+//!
+//! BF refinement (Hanrahan, Salzman & Aupperle 1991, §4): a link from source s to receiver r
+//! moves the power B_s·F_rs·A_r. If that exceeds the threshold ε·Φ (Φ the emitted power) the
+//! link is too coarse: the larger of the two sides (by area) is split and the link replaced by
+//! links from or to its children, each estimated afresh, recursively. A second test bounds
+//! how much the link's factor varies over its receiver: B_s·ΔF·A_r must stay below
+//! [`VARIATION`]·ε·Φ, where ΔF is the spread of the factor over the receiver's quadrature points
+//! — or F itself when visibility is partial or a cluster is involved. So links that straddle a
+//! shadow boundary, or join elements across a shared edge, are refined further than open
+//! ones, which puts small elements along shadow edges and into corners (where a link gathered
+//! by a parent would give its children the parent's average factor). A quadtree leaf is split only while its children keep at least the minimum
+//! element area and the deepest level is not reached.
+//!
+//! Splitting a leaf of the mesh renumbers the elements ([`Mesh::refine`]), so a round only
+//! *collects* the leaves it wants split; the caller splits them all at once and runs another
+//! round, in which the pending links descend into the new children. Links are processed in
+//! parallel and their outputs concatenated in input order, so the link list after a round
+//! does not depend on the thread count.
+
+use rayon::prelude::*;
+
+use super::link::{Estimate, Link, View, CLUSTER};
+use crate::mesh::{Mesh, MAX_LEVEL};
+
+/// The variation test's threshold, as a fraction of the power threshold.
+pub const VARIATION: f64 = 0.125;
+
+/// Refinement thresholds and the current radiosity of every handle.
+#[derive(Clone, Copy, Debug)]
+pub struct Oracle<'a> {
+    /// ε·Φ: the most power one link may move.
+    pub threshold: f64,
+    /// The smallest element area a split may create.
+    pub min_area: f64,
+    /// Radiosity (largest channel) of every mesh node.
+    pub node_b: &'a [f64],
+    /// Radiosity (largest channel) of every cluster.
+    pub cluster_b: &'a [f64],
+}
+
+impl Oracle<'_> {
+    /// Whether the link moves too much power (B_s·F·A_r), or too uncertain a part of it.
+    fn too_coarse(&self, view: &View, l: &Link) -> bool {
+        let b = if l.source & CLUSTER != 0 {
+            self.cluster_b[(l.source & !CLUSTER) as usize]
+        } else {
+            self.node_b[l.source as usize]
+        };
+        let scale = b * view.area(l.receiver);
+        scale * f64::from(l.factor) > self.threshold
+            || scale * f64::from(l.spread) > self.threshold * VARIATION
+    }
+
+    /// Whether a handle can be split: clusters and split faces always, leaves while their
+    /// children stay above the minimum area and below the deepest level.
+    fn splittable(mesh: &Mesh, min_area: f64, h: u32) -> bool {
+        if h & CLUSTER != 0 {
+            return true;
+        }
+        let node = &mesh.nodes[h as usize];
+        node.children.is_some() || (node.level < MAX_LEVEL && node.face.area() >= 4.0 * min_area)
+    }
+}
+
+/// What a round produces.
+#[derive(Debug, Default)]
+pub struct Round {
+    /// The new link list.
+    pub links: Vec<Link>,
+    /// Leaves to split before the next round (sorted, without repeats).
+    pub splits: Vec<u32>,
+    /// Links replaced by finer ones in this round.
+    pub refined: u64,
+}
+
+impl Round {
+    fn append(mut self, mut other: Round) -> Round {
+        self.links.append(&mut other.links);
+        self.splits.append(&mut other.splits);
+        self.refined += other.refined;
+        self
+    }
+}
+
+/// One refinement round over `links`. `force` lists receivers (sorted) whose links must be
+/// split on the receiver side whatever they move (the display criterion).
+#[must_use]
+pub fn round(view: &View, oracle: &Oracle, links: &[Link], force: &[u32]) -> Round {
+    let mut out = links
+        .par_iter()
+        .fold(Round::default, |mut acc, l| {
+            let forced = force.binary_search(&l.receiver).is_ok();
+            Refiner { view, oracle }.link(*l, forced, &mut acc);
+            acc
+        })
+        .reduce(Round::default, Round::append);
+    out.splits.sort_unstable();
+    out.splits.dedup();
+    out
+}
+
+/// The first links: the root cluster with itself, refined as far as the oracle asks.
+#[must_use]
+pub fn start(view: &View, oracle: &Oracle) -> Round {
+    let mut out = Round::default();
+    if !view.clusters.nodes.is_empty() {
+        Refiner { view, oracle }.pair(CLUSTER, CLUSTER, &mut out);
+    }
+    out.splits.sort_unstable();
+    out.splits.dedup();
+    out
+}
+
+/// The recursive refinement of one link.
+struct Refiner<'v, 'a> {
+    view: &'v View<'a>,
+    oracle: &'v Oracle<'a>,
+}
+
+/// Which side of a link to split.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Side {
+    Receiver,
+    Source,
+}
+
+impl Refiner<'_, '_> {
+    /// Keeps `l`, or replaces it by finer links, or keeps it pending a leaf split.
+    fn link(&self, l: Link, forced: bool, acc: &mut Round) {
+        let can = |h| Oracle::splittable(self.view.mesh, self.oracle.min_area, h);
+        let side = if forced && can(l.receiver) {
+            Some(Side::Receiver)
+        } else if !self.oracle.too_coarse(self.view, &l) {
+            None
+        } else {
+            match (can(l.receiver), can(l.source)) {
+                (true, true) => {
+                    if self.view.area(l.receiver) >= self.view.area(l.source) {
+                        Some(Side::Receiver)
+                    } else {
+                        Some(Side::Source)
+                    }
+                }
+                (true, false) => Some(Side::Receiver),
+                (false, true) => Some(Side::Source),
+                (false, false) => None,
+            }
+        };
+        let Some(side) = side else {
+            // A link shadow rays found wholly hidden, and too weak to refine further, is dropped.
+            if l.factor > 0.0 {
+                acc.links.push(l);
+            }
+            return;
+        };
+        let h = if side == Side::Receiver {
+            l.receiver
+        } else {
+            l.source
+        };
+        if h & CLUSTER == 0 && self.view.mesh.nodes[h as usize].children.is_none() {
+            acc.splits.push(h);
+            acc.links.push(l);
+            return;
+        }
+        acc.refined += 1;
+        self.expand(l.receiver, l.source, side, acc);
+    }
+
+    /// Links from or to the children of one side of the pair (r, s).
+    fn expand(&self, r: u32, s: u32, side: Side, acc: &mut Round) {
+        let mut children = Vec::with_capacity(4);
+        self.view
+            .children(if side == Side::Receiver { r } else { s }, &mut children);
+        let pair = |c: u32| {
+            if side == Side::Receiver {
+                (c, s)
+            } else {
+                (r, c)
+            }
+        };
+        if (r | s) & CLUSTER != 0 && children.len() > 1 {
+            let more = children
+                .par_iter()
+                .fold(Round::default, |mut acc, &c| {
+                    let (r, s) = pair(c);
+                    self.pair(r, s, &mut acc);
+                    acc
+                })
+                .reduce(Round::default, Round::append);
+            *acc = std::mem::take(acc).append(more);
+        } else {
+            for c in children {
+                let (r, s) = pair(c);
+                self.pair(r, s, acc);
+            }
+        }
+    }
+
+    /// Estimates a new pair and refines it as far as it needs.
+    fn pair(&self, r: u32, s: u32, acc: &mut Round) {
+        if r == s {
+            // A cluster with itself: every pair of its children (a face never lights itself).
+            if r & CLUSTER == 0 {
+                return;
+            }
+            let mut children = Vec::with_capacity(4);
+            self.view.children(r, &mut children);
+            let pairs: Vec<(u32, u32)> = children
+                .iter()
+                .flat_map(|&a| children.iter().map(move |&b| (a, b)))
+                .collect();
+            let more = pairs
+                .par_iter()
+                .fold(Round::default, |mut acc, &(a, b)| {
+                    self.pair(a, b, &mut acc);
+                    acc
+                })
+                .reduce(Round::default, Round::append);
+            *acc = std::mem::take(acc).append(more);
+            return;
+        }
+        match self.view.estimate(r, s) {
+            Estimate::Nothing => {}
+            Estimate::Link(l) => self.link(l, false, acc),
+            Estimate::Open => {
+                // Open the cluster side (the larger sphere when both are clusters).
+                let side = match (r & CLUSTER != 0, s & CLUSTER != 0) {
+                    (true, true) => {
+                        if self.view.sphere(r).1 >= self.view.sphere(s).1 {
+                            Side::Receiver
+                        } else {
+                            Side::Source
+                        }
+                    }
+                    (true, false) => Side::Receiver,
+                    _ => Side::Source,
+                };
+                self.expand(r, s, side, acc);
+            }
+        }
+    }
+}

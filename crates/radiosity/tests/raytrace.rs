@@ -1,0 +1,414 @@
+//! The ray tracer and the local model against optics, geometry and the radiosity pass.
+
+use std::f64::consts::PI;
+use std::path::Path;
+
+use glam::{DVec3, Vec3};
+use radiosity::formfactor::analytic::point_to_polygon;
+use radiosity::mesh::Subdivision;
+use radiosity::pipeline::{self, Settings, Solved};
+use radiosity::progress::Silent;
+use radiosity::render::local::{self, LocalSettings};
+use radiosity::render::raytrace::optics::{fresnel_dielectric, reflect, refract};
+use radiosity::render::raytrace::{self, RaytraceSettings};
+use radiosity::render::{self as raster, Image, Projection, RasterSettings};
+use radiosity::{Rgb, Scene};
+
+fn solve(toml: &str, elements: usize) -> Solved {
+    let scene = Scene::from_toml_str(toml, Path::new("test.toml")).expect("test scene loads");
+    let settings = Settings {
+        subdivision: Subdivision::Elements(elements),
+        ..Settings::default()
+    };
+    pipeline::solve(scene, &settings, &Silent).expect("solves")
+}
+
+fn image(size: u32, spp: u32) -> RasterSettings {
+    RasterSettings {
+        width: size,
+        height: size,
+        samples_per_pixel: spp,
+    }
+}
+
+/// Whitted settings with samples at the sub-square centres (exactly where the rasterizer
+/// samples), so expected values can be computed per pixel.
+fn centred(max_depth: u32, gather: u32) -> RaytraceSettings {
+    RaytraceSettings {
+        max_depth,
+        gather,
+        shadow_samples: 64,
+        jitter: false,
+    }
+}
+
+fn trace(s: &Solved, size: u32, settings: &RaytraceSettings) -> Image {
+    let camera = &s.scene.cameras[0];
+    raytrace::render(&s.scene, &s.mesh, &s.lit, camera, &image(size, 1), settings)
+}
+
+/// The pixel showing world point `p`.
+fn pixel_of(s: &Solved, size: u32, p: Vec3) -> (u32, u32) {
+    let proj = Projection::new(&s.scene.cameras[0], size, size);
+    let px = proj.clip_to_pixel(proj.to_clip(p));
+    (px.x.floor() as u32, px.y.floor() as u32)
+}
+
+const MIRROR: &str = r#"
+[camera]
+eye = [0.0, 0.5, 3.0]
+target = [0.0, -0.5, 0.0]
+up = [0.0, 1.0, 0.0]
+fov_y = 40.0
+[materials.mirror]
+reflectance = [0.0, 0.0, 0.0]
+specular = [0.8, 0.8, 0.8]
+[materials.red]
+reflectance = [0.0, 0.0, 0.0]
+emission = [1.0, 0.0, 0.0]
+[[objects]]
+name = "mirror"
+material = "mirror"
+shape = "polygon"
+vertices = [[-3, 0, 3], [3, 0, 3], [3, 0, -3], [-3, 0, -3]]
+[[objects]]
+name = "patch"
+material = "red"
+shape = "polygon"
+vertices = [[-0.3, 1, -0.3], [0.3, 1, -0.3], [0.3, 1, 0.3], [-0.3, 1, 0.3]]
+"#;
+
+#[test]
+fn a_mirror_shows_the_patch_at_its_mirrored_position() {
+    // Brute force: each pixel's ray, reflected in the plane y = 0 by hand, must see the red
+    // patch (radiance 1, no reflectance, so its radiosity is exactly its emission) scaled by
+    // the mirror's 0.8 exactly where the mirrored patch (y = −1) lies.
+    let s = solve(MIRROR, 64);
+    let size = 64;
+    let img = trace(&s, size, &centred(4, 0));
+    let proj = Projection::new(&s.scene.cameras[0], size, size);
+    let mut checked = 0;
+    for y in 0..size {
+        for x in 0..size {
+            let (o, d) = proj.primary_ray(x as f32 + 0.5, y as f32 + 0.5);
+            let (o, d) = (o.as_dvec3(), d.as_dvec3());
+            if d.y >= 0.0 {
+                continue; // never reaches the mirror
+            }
+            // Down to the mirror, then up to y = 1 along the reflected direction.
+            let at_mirror = o + d * (-o.y / d.y);
+            let up = DVec3::new(d.x, -d.y, d.z);
+            let q = at_mirror + up * ((1.0 - at_mirror.y) / up.y);
+            let inside = q.x.abs().max(q.z.abs());
+            if (inside - 0.3).abs() < 0.01 || at_mirror.x.abs().max(at_mirror.z.abs()) > 2.9 {
+                continue; // within a hair of an edge: f32 hits may fall either way
+            }
+            let expected = if inside < 0.3 { 0.8 } else { 0.0 };
+            let got = img.get(x, y);
+            assert!(
+                (got - Rgb::new(expected, 0.0, 0.0)).abs().max_element() < 1e-6,
+                "pixel ({x}, {y}): {got} instead of {expected}"
+            );
+            checked += usize::from(expected > 0.0);
+        }
+    }
+    // The mirrored patch covers a fair number of pixels, not a handful.
+    assert!(checked > 40, "{checked} pixels show the reflection");
+    let (x, y) = pixel_of(&s, size, Vec3::new(0.0, -1.0, 0.0));
+    assert_eq!(img.get(x, y), Rgb::new(0.8, 0.0, 0.0));
+}
+
+#[test]
+fn refraction_follows_snells_law() {
+    // η₁ sin θ₁ = η₂ sin θ₂ from air into glass (η = 1.5) and back, to f32 precision.
+    let n = Vec3::Y;
+    for deg in [0.0f32, 10.0, 30.0, 45.0, 60.0, 80.0, 89.0] {
+        let th = deg.to_radians();
+        let d = Vec3::new(th.sin(), -th.cos(), 0.0);
+        let t = refract(d, n, 1.0 / 1.5).expect("air to glass always refracts");
+        assert!((t.length() - 1.0).abs() < 1e-5);
+        assert!(t.y < 0.0, "continues into the glass");
+        assert!(
+            (th.sin() - 1.5 * t.x).abs() < 1e-5,
+            "{deg}°: sin θ₂ = {}",
+            t.x
+        );
+        // Back out again: the original direction.
+        let back = refract(t, n, 1.5).expect("below the critical angle");
+        assert!((back - d).length() < 1e-4, "{deg}°: {back} vs {d}");
+    }
+    let r = reflect(Vec3::new(0.6, -0.8, 0.0), n);
+    assert!((r - Vec3::new(0.6, 0.8, 0.0)).length() < 1e-6);
+}
+
+#[test]
+fn fresnel_at_normal_incidence_is_four_percent_for_glass() {
+    // ((1 − 1.5)/(1 + 1.5))² = 0.04, either way through the interface.
+    assert!((fresnel_dielectric(1.0, 1.0, 1.5) - 0.04).abs() < 1e-12);
+    assert!((fresnel_dielectric(1.0, 1.5, 1.0) - 0.04).abs() < 1e-12);
+    // Brewster's angle, tan θ_B = 1.5: R_p = 0, so F = R_s/2 = ((cos θ − 1.5 cos θ_t)/(...))²/2.
+    let cb = 1.5f64.atan().cos();
+    let ct = (1.0 - (1.0 - cb * cb) / 2.25).sqrt();
+    let rs = ((cb - 1.5 * ct) / (cb + 1.5 * ct)).powi(2);
+    assert!((fresnel_dielectric(cb, 1.0, 1.5) - rs / 2.0).abs() < 1e-12);
+}
+
+#[test]
+fn total_internal_reflection_past_the_critical_angle() {
+    // From glass to air θ_c = asin(1/1.5) = 41.81°: just below it light refracts (grazing),
+    // just above it there is no refracted ray and F = 1.
+    let critical = (1.0f64 / 1.5).asin();
+    for (offset, refracts) in [(-0.01f64, true), (0.01, false)] {
+        let th = critical + offset;
+        let d = Vec3::new(th.sin() as f32, -th.cos() as f32, 0.0);
+        assert_eq!(refract(d, Vec3::Y, 1.5).is_some(), refracts, "{offset}");
+        let f = fresnel_dielectric(th.cos(), 1.5, 1.0);
+        if refracts {
+            assert!(f < 1.0);
+        } else {
+            assert_eq!(f, 1.0);
+        }
+    }
+}
+
+/// The unit cube seen from inside, all six faces of material `wall`.
+fn cube(wall: &str) -> String {
+    // Counter-clockwise seen from inside: every face looks into the cube.
+    let faces = [
+        "[[0,1,0],[0,1,1],[0,0,1],[0,0,0]]",
+        "[[1,0,1],[1,1,1],[1,1,0],[1,0,0]]",
+        "[[0,0,1],[1,0,1],[1,0,0],[0,0,0]]",
+        "[[1,1,0],[1,1,1],[0,1,1],[0,1,0]]",
+        "[[1,0,0],[1,1,0],[0,1,0],[0,0,0]]",
+        "[[0,1,1],[1,1,1],[1,0,1],[0,0,1]]",
+    ];
+    let mut s = format!(
+        "[camera]\neye = [0.3, 0.4, 0.35]\ntarget = [1.0, 0.2, 0.9]\nup = [0.0, 1.0, 0.0]\n\
+         fov_y = 90.0\n[materials.wall]\n{wall}\n"
+    );
+    for (k, f) in faces.iter().enumerate() {
+        s += &format!(
+            "[[objects]]\nname = \"f{k}\"\nmaterial = \"wall\"\nshape = \"polygon\"\nvertices = {f}\n"
+        );
+    }
+    s
+}
+
+#[test]
+fn a_furnace_with_mirrors_creates_no_energy() {
+    // Every face emits L_e = 1, reflects ρ = 0.3 diffusely and s = 0.6 as a mirror. The true
+    // radiance is L_e/(1 − ρ − s) = 10 everywhere. The two-pass method carries L D* S* E: the
+    // radiosity pass gives B/π = L_e/(1 − ρ), and d mirror bounces add the geometric series
+    // L = L_e/(1 − ρ) · (1 − s^(d+1))/(1 − s) ≤ L_e/((1 − ρ)(1 − s)) = 3.57 < 10.
+    // Tolerance 1 %: the discrete form factors of a closed cube sum to 1 within that.
+    let s = solve(
+        &cube(
+            "reflectance = [0.3, 0.3, 0.3]\nspecular = [0.6, 0.6, 0.6]\nemission = [1.0, 1.0, 1.0]",
+        ),
+        600,
+    );
+    for depth in [0, 3, 8] {
+        let img = trace(&s, 24, &centred(depth, 0));
+        let expected = (1.0 / 0.7) * (1.0 - 0.6f64.powi(depth as i32 + 1)) / 0.4;
+        for p in &img.pixels {
+            assert!(p.max_element() <= 10.0, "more than the true radiance: {p}");
+            assert!(
+                (p.x / expected - 1.0).abs() < 0.01,
+                "depth {depth}: {p} vs {expected}"
+            );
+        }
+    }
+}
+
+const SHADOW: &str = r#"
+[camera]
+eye = [1.8, 0.4, 0.0]
+target = [0.0, 0.0, 0.0]
+up = [0.0, 1.0, 0.0]
+fov_y = 60.0
+[materials.floor]
+reflectance = [0.5, 0.5, 0.5]
+[materials.light]
+reflectance = [0.0, 0.0, 0.0]
+emission = [10.0, 10.0, 10.0]
+[[objects]]
+name = "floor"
+material = "floor"
+shape = "polygon"
+vertices = [[-1, 0, 1], [1, 0, 1], [1, 0, -1], [-1, 0, -1]]
+[[objects]]
+name = "blocker"
+material = "floor"
+shape = "polygon"
+vertices = [[-0.3, 1, 0.3], [0.3, 1, 0.3], [0.3, 1, -0.3], [-0.3, 1, -0.3]]
+[[objects]]
+name = "light"
+material = "light"
+shape = "polygon"
+vertices = [[-0.1, 2, -0.1], [0.1, 2, -0.1], [0.1, 2, 0.1], [-0.1, 2, 0.1]]
+"#;
+
+#[test]
+fn a_blocker_casts_its_shadow_where_geometry_says() {
+    // The blocker (|x|, |z| ≤ 0.3 at y = 1) is half-way between the light (|x|, |z| ≤ 0.1 at
+    // y = 2) and the floor, so the segment from a light point e to a floor point p crosses it
+    // at (e + p)/2: the umbra is |x|, |z| ≤ 0.5, and beyond 0.7 the light is fully seen.
+    let s = solve(SHADOW, 400);
+    let size = 96;
+    let ambient = 0.2;
+    let settings = LocalSettings {
+        ambient: Some(Rgb::splat(ambient)),
+        shadows: true,
+        shadow_samples: 64,
+        phong_exponent: 50.0,
+        jitter: false,
+    };
+    let camera = &s.scene.cameras[0];
+    let local = local::render(
+        &s.scene,
+        &s.mesh,
+        &s.lit,
+        camera,
+        &image(size, 1),
+        &settings,
+    );
+    let gathered = trace(&s, size, &centred(4, 64));
+
+    let rho = 0.5;
+    for p in [Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.3, 0.0, -0.2)] {
+        let (x, y) = pixel_of(&s, size, p);
+        // Local: the umbra gets the ambient term only, exactly.
+        let l = local.get(x, y);
+        assert!((l.x - rho * ambient / PI).abs() < 1e-12, "umbra {p}: {l}");
+        // Gathered: no direct light, and the only surface it sees above is the blocker's
+        // unlit back, so next to nothing.
+        assert!(
+            gathered.get(x, y).x < 1e-3,
+            "umbra {p}: {}",
+            gathered.get(x, y)
+        );
+    }
+    let light = [
+        [-0.1, 2.0, -0.1],
+        [0.1, 2.0, -0.1],
+        [0.1, 2.0, 0.1],
+        [-0.1, 2.0, 0.1],
+    ]
+    .map(DVec3::from_array);
+    for p in [Vec3::new(0.85, 0.0, 0.0), Vec3::new(0.8, 0.0, 0.5)] {
+        let (x, y) = pixel_of(&s, size, p);
+        // The pixel spans a few millimetres of floor: take its centre's floor point.
+        let proj = Projection::new(camera, size, size);
+        let (o, d) = proj.primary_ray(x as f32 + 0.5, y as f32 + 0.5);
+        let q = (o + d * (-o.y / d.y)).as_dvec3();
+        let e_direct = PI * 10.0 * point_to_polygon(q, DVec3::Y, &light);
+        // Fully lit: local = ρ/π (E + A); 64 stratified samples of a small light are within
+        // 2 %.
+        let want = rho / PI * (e_direct + ambient);
+        let l = local.get(x, y).x;
+        assert!((l / want - 1.0).abs() < 0.02, "lit {p}: {l} vs {want}");
+        let g = gathered.get(x, y).x;
+        let want = rho / PI * e_direct;
+        assert!((g / want - 1.0).abs() < 0.03, "lit {p}: {g} vs {want}");
+    }
+}
+
+const GLASS: &str = r#"
+[camera]
+eye = [0.0, 0.0, 4.0]
+target = [0.0, 0.0, 0.0]
+up = [0.0, 1.0, 0.0]
+fov_y = 30.0
+[materials.glass]
+reflectance = [0.0, 0.0, 0.0]
+transmission = [0.25, 1.0, 1.0]
+ior = 1.5
+[materials.white]
+reflectance = [0.0, 0.0, 0.0]
+emission = [1.0, 1.0, 1.0]
+[[objects]]
+name = "ball"
+material = "glass"
+shape = "sphere"
+center = [0.0, 0.0, 0.0]
+radius = 0.5
+subdivisions = 4
+[[objects]]
+name = "screen"
+material = "white"
+shape = "polygon"
+vertices = [[-3, -3, -2], [3, -3, -2], [3, 3, -2], [-3, 3, -2]]
+"#;
+
+#[test]
+fn coloured_glass_transmits_by_fresnel_and_beer_lambert() {
+    // Through the centre of the ball: two interfaces at normal incidence pass (1 − 0.04)² and
+    // the glass absorbs T = 0.25 in red over its diameter; inter-reflections add ~0.04² more.
+    let s = solve(GLASS, 64);
+    let size = 33;
+    let img = trace(&s, size, &centred(8, 0));
+    let c = img.get(16, 16);
+    let pass = 0.96 * 0.96;
+    assert!((c.y / pass - 1.0).abs() < 0.01, "{c}");
+    assert!((c.x / (0.25 * pass) - 1.0).abs() < 0.02, "{c}");
+    // Around the ball the screen is seen directly.
+    assert!((img.get(0, 0) - Rgb::ONE).abs().max_element() < 1e-9);
+}
+
+#[test]
+fn on_a_diffuse_scene_ray_tracing_matches_the_rasterizer() {
+    // Both interpolate the lit mesh linearly in world space at the same sample points; only
+    // samples within a hair of a triangle edge may disagree (f32 ray hits against fixed-point
+    // rasterization), so at most 1 % of the pixels may differ by more than 1e-4 (relative).
+    let cornell = radiosity::scene::builtin::load("cornell").unwrap().unwrap();
+    let settings = Settings {
+        subdivision: Subdivision::Elements(300),
+        ..Settings::default()
+    };
+    let s = pipeline::solve(cornell, &settings, &Silent).unwrap();
+    let size = 64;
+    let camera = &s.scene.cameras[0];
+    let rast = raster::render(&s.lit, camera, &image(size, 1));
+    let traced = trace(&s, size, &centred(8, 0));
+    let mut off = 0;
+    for (a, b) in rast.pixels.iter().zip(&traced.pixels) {
+        let scale = a.max_element().max(1e-3);
+        if (*a - *b).abs().max_element() / scale > 1e-4 {
+            off += 1;
+        }
+    }
+    assert!(off * 100 <= rast.pixels.len(), "{off} pixels disagree");
+    // And the means agree to 0.5 %.
+    let (ma, mb) = (rast.mean(), traced.mean());
+    assert!(((ma - mb).abs() / ma).max_element() < 5e-3, "{ma} vs {mb}");
+}
+
+#[test]
+fn images_do_not_depend_on_the_thread_count() {
+    let s = solve(SHADOW, 200);
+    let camera = &s.scene.cameras[0];
+    let settings = RaytraceSettings {
+        gather: 8,
+        ..RaytraceSettings::default()
+    };
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                let a =
+                    raytrace::render(&s.scene, &s.mesh, &s.lit, camera, &image(40, 4), &settings);
+                let b = local::render(
+                    &s.scene,
+                    &s.mesh,
+                    &s.lit,
+                    camera,
+                    &image(40, 4),
+                    &LocalSettings::default(),
+                );
+                (a, b)
+            })
+    };
+    assert_eq!(run(1), run(3));
+}
