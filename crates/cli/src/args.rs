@@ -144,6 +144,9 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N", default_value_t = 0,
           value_parser = clap::value_parser!(u32).range(0..=4096))]
     pub gather: u32,
+    /// With --mode local: no shadow rays (the lecture's plain "OpenGL rendering").
+    #[arg(long)]
+    pub no_shadows: bool,
     /// Options shared with `solve`.
     #[command(flatten)]
     pub common: CommonArgs,
@@ -235,6 +238,10 @@ pub struct CommonArgs {
     /// Cells along a full edge of a hemicube (hemicube form factors).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(2..=4096))]
     pub hemicube_resolution: Option<u32>,
+    /// Quadrature points per receiver element, as an N × N grid (ray-cast and analytic form
+    /// factors: Lambert's formula at each point; hemicube: one hemicube at each point).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=16))]
+    pub quadrature: Option<u32>,
     /// Shadow rays per element–source pair (ray-cast form factors).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub rays: Option<u32>,

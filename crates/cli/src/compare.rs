@@ -17,18 +17,25 @@ use crate::args::{CompareArgs, Mode};
 use crate::job;
 
 /// The image of `solved` seen by `camera` in `mode`; `gather` is the final-gather ray count of
-/// the ray tracer.
+/// the ray tracer, `shadows` whether local illumination casts shadows.
 pub fn render_mode(
     solved: &Solved,
     camera: &Camera,
     mode: Mode,
     raster: &RasterSettings,
     gather: u32,
+    shadows: bool,
 ) -> Image {
     let (scene, mesh, lit) = (&solved.scene, &solved.mesh, &solved.lit);
     match mode {
         Mode::Radiosity => render::render(lit, camera, raster),
-        Mode::Local => local::render(scene, mesh, lit, camera, raster, &LocalSettings::default()),
+        Mode::Local => {
+            let settings = LocalSettings {
+                shadows,
+                ..LocalSettings::default()
+            };
+            local::render(scene, mesh, lit, camera, raster, &settings)
+        }
         Mode::Raytrace => {
             let settings = RaytraceSettings {
                 gather,
@@ -64,7 +71,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
             let t = Instant::now();
             panels.push((
                 label,
-                render_mode(&solved, &camera, mode, &raster, args.gather),
+                render_mode(&solved, &camera, mode, &raster, args.gather, true),
             ));
             job::say(
                 common,

@@ -101,7 +101,14 @@ fn render_job(args: &RenderArgs) -> Result<()> {
     let solved = run_solve(scene, common)?;
 
     let render_start = Instant::now();
-    let image = compare::render_mode(&solved, &camera, args.mode, &raster, args.gather);
+    let image = compare::render_mode(
+        &solved,
+        &camera,
+        args.mode,
+        &raster,
+        args.gather,
+        !args.no_shadows,
+    );
     let exposure = args
         .exposure
         .unwrap_or_else(|| tonemap::auto_exposure(&image));

@@ -32,6 +32,9 @@ pub fn pipeline_settings(common: &CommonArgs) -> pipeline::Settings {
     if let Some(n) = common.hemicube_resolution {
         settings.form_factors.hemicube_resolution = n;
     }
+    if let Some(n) = common.quadrature {
+        settings.form_factors.quadrature = n;
+    }
     if let Some(rays) = common.rays {
         settings.form_factors.rays = rays;
     }

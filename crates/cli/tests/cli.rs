@@ -345,9 +345,9 @@ fn bad_inputs_exit_2_with_one_line_and_no_output() {
         &["lit.stl"],
     );
     assert_fails(
-        "mode",
-        &with(&["render", "room.toml", "--mode", "local"]),
-        &["--mode local is not available yet"],
+        "gather-without-raytrace",
+        &with(&["render", "room.toml", "--mode", "local", "--gather", "4"]),
+        &["--gather applies to --mode raytrace only"],
     );
     assert_fails("no-scene", &["solve"], &["SCENE"]);
     assert_fails(
@@ -417,5 +417,31 @@ fn results_do_not_depend_on_the_thread_count() {
         images[0] == images[1],
         "PFM bytes differ between 1 and 2 threads"
     );
+    fs::remove_dir_all(&dir).expect("cleanup");
+}
+
+#[test]
+fn curve_draws_the_de_casteljau_construction_as_svg() {
+    let dir = scratch("curve");
+    let out = run(
+        &dir,
+        &[
+            "curve",
+            "--points",
+            "0,0 1,2 3,2 4,0",
+            "--t",
+            "0.25",
+            "-o",
+            "c.svg",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let svg = fs::read_to_string(dir.join("c.svg")).expect("svg written");
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    // The control polygon, and one construction polygon per level below it (3 for a cubic).
+    assert!(svg.matches("<polyline").count() >= 4, "{svg}");
+    let bad = run(&dir, &["curve", "--points", "0,0 1,x", "-o", "d.svg"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(!dir.join("d.svg").exists());
     fs::remove_dir_all(&dir).expect("cleanup");
 }

@@ -2,13 +2,15 @@
 //! a PLY, a self-contained HTML viewer and a convergence plot.
 //!
 //! ```text
-//! cargo run --release -p radiosity --example solve_and_export -- [SCENE] [OUT_DIR]
+//! cargo run --release -p radiosity --example solve_and_export -- [SCENE] [OUT_DIR] [ELEMENTS]
 //! ```
 //!
 //! SCENE is a file (.toml, .obj, .gltf, .glb) or a built-in name (default `cornell`); the files
-//! go to OUT_DIR (default the current directory).
+//! go to OUT_DIR (default the current directory); ELEMENTS is the subdivision (default 2000).
+//! Each output's size and writing time are printed.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use radiosity::io::gltf::{write_glb, VertexColours};
 use radiosity::io::{html, image_file, ply};
@@ -18,15 +20,16 @@ use radiosity::progress::Silent;
 use radiosity::render::{self, tonemap, RasterSettings};
 use radiosity::{plot, Scene};
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() -> Result<()> {
     let mut args = std::env::args().skip(1);
     let scene = Scene::resolve(&args.next().unwrap_or_else(|| "cornell".into()))?;
     let out = PathBuf::from(args.next().unwrap_or_else(|| ".".into()));
     let name = scene.name.clone();
+    let elements = args.next().map_or(Ok(2_000), |n| n.parse())?;
 
     // Solve: the result does not depend on any camera.
     let settings = Settings {
-        subdivision: Subdivision::Elements(2_000),
+        subdivision: Subdivision::Elements(elements),
         ..Settings::default()
     };
     let solved = pipeline::solve(scene, &settings, &Silent)?;
@@ -41,7 +44,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let camera = &solved.scene.cameras[0];
     let image = render::render(&solved.lit, camera, &RasterSettings::default());
     let exposure = tonemap::auto_exposure(&image);
-    image_file::write_image(&out.join(format!("{name}.png")), &image, exposure)?;
+    let png = out.join(format!("{name}.png"));
+    timed(&png, || {
+        Ok(image_file::write_image(&png, &image, exposure)?)
+    })?;
 
     // Export the lit mesh and the viewer, named after the scene's objects.
     let names: Vec<String> = solved
@@ -51,14 +57,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|o| o.name.clone())
         .collect();
     let glb = out.join(format!("{name}.glb"));
-    write_glb(&glb, &solved.lit, &names, VertexColours::Exposure(exposure))?;
-    ply::write_ply(&out.join(format!("{name}.ply")), &solved.lit, &names)?;
-    html::write_solved(&out.join(format!("{name}.html")), &solved, Some(exposure))?;
-    plot::write_convergence_svg(
-        &out.join(format!("{name}-convergence.svg")),
-        &name,
-        &solved.solution.history,
-    )?;
+    timed(&glb, || {
+        Ok(write_glb(
+            &glb,
+            &solved.lit,
+            &names,
+            VertexColours::Exposure(exposure),
+        )?)
+    })?;
+    let ply = out.join(format!("{name}.ply"));
+    timed(&ply, || Ok(ply::write_ply(&ply, &solved.lit, &names)?))?;
+    let page = out.join(format!("{name}.html"));
+    timed(&page, || {
+        Ok(html::write_solved(&page, &solved, Some(exposure))?)
+    })?;
+    let svg = out.join(format!("{name}-convergence.svg"));
+    timed(&svg, || {
+        let history = &solved.solution.history;
+        Ok(plot::write_convergence_svg(&svg, &name, history)?)
+    })?;
 
     // The glb reads back as a scene of its own.
     let again = Scene::load(&glb)?;
@@ -67,5 +84,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         again.polygons.len(),
         again.objects.len()
     );
+    Ok(())
+}
+
+type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
+
+/// Runs `write`, then prints the file's size and the seconds it took.
+fn timed(path: &Path, write: impl FnOnce() -> Result<()>) -> Result<()> {
+    let start = Instant::now();
+    write()?;
+    let seconds = start.elapsed().as_secs_f64();
+    let bytes = std::fs::metadata(path)?.len();
+    println!("{}: {bytes} bytes in {seconds:.3} s", path.display());
     Ok(())
 }

@@ -148,7 +148,7 @@ fn browser_screenshot_matches_the_rasterizer() {
     // they differ in antialiasing (4 stratified samples vs the GPU's multisampling), in
     // rasterization rules along edges and in 8-bit rounding. Tolerance: a mean difference of
     // 2 codes (of 255) and at most 2 % of pixels off by more than 24 codes, which only edge
-    // pixels reach (measured with SwiftShader: 0.79 codes and 0.8 %). An exposure off by a
+    // pixels reach (measured with SwiftShader: 1.0 code and 1.0 %). An exposure off by a
     // third of a stop (×1.26) moves mid-grey sRGB codes by about 12, failing the mean.
     let diff: Vec<u32> = got
         .iter()

@@ -4,7 +4,7 @@
 //! The 2-D case of [`super::marching_cubes`]: a vertex on every grid edge whose ends differ in
 //! sign (linear interpolation), and in each cell, walked counter-clockwise, segments from an
 //! outside→inside crossing to an inside→outside crossing. The ambiguous saddle cell (corners
-//! + − + −) is resolved by the asymptotic decider (Nielson & Hamann 1991): the inside corners
+//! alternately in and out) is resolved by the asymptotic decider (Nielson & Hamann 1991): the inside corners
 //! are joined when the bilinear interpolant's saddle value (f₀f₂ − f₁f₃)/(f₀ + f₂ − f₁ − f₃) is
 //! negative. Samples on the grid's boundary count as outside, so every contour is closed; the
 //! region f < 0 lies to the left of each contour (contours run counter-clockwise around it).

@@ -27,6 +27,13 @@ use crate::Rgb;
 /// smoothly, while a box's 90° edges stay sharp.
 const SMOOTHING_ANGLE_DEG: f32 = 40.0;
 
+/// Where a vertex is, for smoothing: object, side (back?) and quantized position.
+type Place = (u32, bool, IVec3);
+
+/// What an element contributes at one of its corners: its patch's normal, its area, and its
+/// area times its radiosity.
+type Corner = (Vec3, f64, DVec3);
+
 /// Deepest midpoint search along an edge (far beyond any level difference the quadtrees reach).
 const MAX_EDGE_DEPTH: u32 = 16;
 
@@ -44,10 +51,10 @@ pub fn lit_mesh(mesh: &Mesh, radiosity: &[Rgb]) -> LitMesh {
     // area-weighted radiosity and normal under (object, side, position), so that a vertex can
     // average over the elements of neighbouring surfaces that meet it smoothly.
     let mut index: HashMap<(u32, IVec3), u32> = HashMap::new();
-    let mut around: HashMap<(u32, bool, IVec3), Vec<(Vec3, f64, DVec3)>> = HashMap::new();
+    let mut around: HashMap<Place, Vec<Corner>> = HashMap::new();
     let mut lit = LitMesh::default();
     let mut vertex_normal: Vec<Vec3> = Vec::new();
-    let mut vertex_place: Vec<(u32, bool, IVec3)> = Vec::new();
+    let mut vertex_place: Vec<Place> = Vec::new();
     for (e, &n) in mesh.elements.iter().enumerate() {
         let node = &mesh.nodes[n as usize];
         let patch = &mesh.patches[node.patch as usize];

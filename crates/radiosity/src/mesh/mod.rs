@@ -82,12 +82,15 @@ pub struct Mesh {
 }
 
 impl Mesh {
-    /// How many elements [`Mesh::build`] would make, without making them (to refuse absurd
-    /// requests before allocating).
+    /// How many root faces and elements [`Mesh::build`] would make, without making them (to
+    /// refuse absurd requests, or choose a solver, before allocating).
     #[must_use]
-    pub fn planned_elements(scene: &Scene, subdivision: Subdivision) -> f64 {
+    pub fn plan(scene: &Scene, subdivision: Subdivision) -> (usize, f64) {
         let areas = root_areas(&patch::patches(scene));
-        element_count(&areas, target_for(&areas, subdivision))
+        (
+            areas.len(),
+            element_count(&areas, target_for(&areas, subdivision)),
+        )
     }
 
     /// Splits every polygon of `scene` into patches and subdivides them uniformly.

@@ -6,7 +6,9 @@
 //! links from or to its children, each estimated afresh, recursively. A second test bounds
 //! how much the link's factor varies over its receiver: B_s·ΔF·A_r must stay below
 //! [`VARIATION`]·ε·Φ, where ΔF is the spread of the factor over the receiver's quadrature points
-//! — or F itself when visibility is partial or a cluster is involved. So links that straddle a
+//! — or the *unoccluded* F when shadow rays found the pair partly or wholly hidden, and F
+//! itself when a cluster is involved. A link found wholly hidden is dropped only once that
+//! bound is below the threshold (dropping it at once, on four rays, lost 3–8 % of the light). So links that straddle a
 //! shadow boundary, or join elements across a shared edge, are refined further than open
 //! ones, which puts small elements along shadow edges and into corners (where a link gathered
 //! by a parent would give its children the parent's average factor). A quadtree leaf is split only while its children keep at least the minimum
