@@ -9,6 +9,11 @@ use radiosity::solve::{self, Method, Settings, Solution};
 use radiosity::testing::{self, Prepared};
 use radiosity::Rgb;
 
+/// The solvers of the stored (or column-wise) element system, for which these identities hold
+/// to rounding. Hierarchical radiosity approximates the same system within its ε; its energy
+/// tests, with that tolerance, are in `tests/hierarchical.rs`.
+const ELEMENT_EXACT: [Method; 3] = [Method::Jacobi, Method::GaussSeidel, Method::Progressive];
+
 fn solve_with(g: &Geometry, method: Method) -> Solution {
     let ff = formfactor::build(&formfactor::Settings {
         method: FfMethod::Analytic,
@@ -42,7 +47,7 @@ fn one_emitting_wall_power_is_emitted_over_one_minus_rho() {
     let p = Prepared::new(&scene, Subdivision::Elements(384), 10_000);
     let g = p.geometry();
     let expected = std::f64::consts::PI / (1.0 - rho);
-    for method in Method::ALL {
+    for method in ELEMENT_EXACT {
         let s = solve_with(&g, method);
         assert!(s.residual < 1e-10, "{method}: residual {}", s.residual);
         let total = power(&g, &s.radiosity);
@@ -63,7 +68,7 @@ fn every_face_emitting_gives_uniform_radiosity() {
         let p = Prepared::new(&scene, Subdivision::Elements(384), max_sources);
         let g = p.geometry();
         let expected = std::f64::consts::PI / (1.0 - rho);
-        for method in Method::ALL {
+        for method in ELEMENT_EXACT {
             let s = solve_with(&g, method);
             for (e, b) in s.radiosity.iter().enumerate() {
                 let rel = (*b - Rgb::splat(expected)).abs().max_element() / expected;
