@@ -377,3 +377,39 @@ fn non_finite_and_huge_inputs_never_panic() {
         );
     }
 }
+
+/// The modeling shapes report their errors at the offending key like every other shape.
+#[test]
+fn modeling_shapes_report_errors_at_their_keys() {
+    let object = |shape: &str, keys: &str| {
+        format!("{MATERIALS}[[objects]]\nname = \"m\"\nmaterial = \"white\"\nshape = \"{shape}\"\n{keys}")
+    };
+    // Rows of unequal length in a Bézier control net.
+    let t = object(
+        "bezier_patch",
+        "points = [[[0, 0, 0], [1, 0, 0]], [[0, 1, 0]]]\n",
+    );
+    let e = load_err(&t).to_string();
+    assert!(
+        e.starts_with(&format!("bad.toml:{}", line_col(&t, "[[[0"))),
+        "{e}"
+    );
+    assert!(e.contains("objects[0].points") && !e.contains('\n'), "{e}");
+    // An unknown subdivision scheme.
+    let t = object("subdivision", "base = \"cube\"\nscheme = \"doo_sabin\"\n");
+    let e = load_err(&t).to_string();
+    assert!(
+        e.contains("objects[0].scheme") && e.contains(&line_col(&t, "\"doo_sabin\"")),
+        "{e}"
+    );
+    // A knot vector that does not fit the degree and point count.
+    let t = object(
+        "nurbs_surface",
+        "points = [[[0, 0, 0], [1, 0, 0]], [[0, 1, 0], [1, 1, 0]]]\nknots_u = [0, 1]\n",
+    );
+    let e = load_err(&t).to_string();
+    assert!(
+        e.contains("objects[0].knots_u") && e.contains(&line_col(&t, "[0, 1]")),
+        "{e}"
+    );
+}

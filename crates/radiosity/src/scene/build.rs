@@ -310,6 +310,15 @@ fn build_mesh(
         })?;
         obj::parse_obj(&text, &full)?
     };
+    if obj.faces.is_empty() {
+        let message = format!("mesh `{}` has no faces: is it a mesh?", full.display());
+        let at = Loc {
+            file: desc.file.clone(),
+            line: path.pos.line,
+            col: path.pos.col,
+        };
+        return Err(SceneError::at(at, message).with_key(path.key.clone()));
+    }
     b.scene.warnings.extend(obj.warnings.iter().cloned());
     let base = b.scene.materials.len();
     if material.is_none() {
@@ -624,6 +633,35 @@ fn modeled_mesh(
             let kv = knots_v
                 .as_ref()
                 .map_or_else(|| clamped(q, cols), |k| k.value.clone());
+            // Name the key at fault where one can be told: knot counts and weight counts.
+            for (knots, count, degree) in [(knots_u, rows, p), (knots_v, cols, q)] {
+                if let Some(k) = knots {
+                    if k.value.len() != count + degree + 1 {
+                        return Err(fail(
+                            k.pos,
+                            &k.key,
+                            format!(
+                                "expected {} knots ({count} points + degree {degree} + 1), found {}",
+                                count + degree + 1,
+                                k.value.len()
+                            ),
+                        ));
+                    }
+                }
+            }
+            if let Some(weights) = weights {
+                if w.len() != flat.len() {
+                    return Err(fail(
+                        weights.pos,
+                        &weights.key,
+                        format!(
+                            "expected {} weights, one per point, found {}",
+                            flat.len(),
+                            w.len()
+                        ),
+                    ));
+                }
+            }
             let patch = NurbsSurface::new((p, q), (ku, kv), (rows, cols), &flat, &w)
                 .ok_or_else(|| bad(&|| (points.pos, points.key.clone())))?;
             tessellate(&[patch], tolerance)
