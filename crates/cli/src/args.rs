@@ -35,6 +35,9 @@ pub enum Command {
     /// Draw a Bézier curve with its control polygon and de Casteljau construction (or a
     /// B-spline) as SVG.
     Curve(CurveArgs),
+    /// Run the built-in validation suite (closed-form view factors, CIE 171:2006 integrating
+    /// sphere, inverse-square law, energy conservation) and print the table.
+    Validate(crate::validate::ValidateArgs),
 }
 
 /// `radiosity curve`.

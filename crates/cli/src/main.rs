@@ -26,6 +26,7 @@ mod hemicube;
 mod info;
 mod job;
 mod settings;
+mod validate;
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -58,6 +59,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::run(&args),
         Command::Hemicube(args) => hemicube::run(&args),
         Command::Curve(args) => curve::run(&args),
+        Command::Validate(args) => validate::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
