@@ -269,6 +269,16 @@ pub struct CommonArgs {
     /// Seed of the random sampling (ray-cast form factors).
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Save the solver state to this file periodically and when interrupted (Jacobi,
+    /// Gauss-Seidel and progressive solvers).
+    #[arg(long, value_name = "PATH")]
+    pub checkpoint: Option<PathBuf>,
+    /// Seconds between two checkpoints.
+    #[arg(long, value_name = "SECONDS", default_value_t = 60.0, value_parser = positive_f64)]
+    pub checkpoint_every: f64,
+    /// Continue the solve from a checkpoint of the same scene and settings.
+    #[arg(long, value_name = "PATH")]
+    pub resume: Option<PathBuf>,
     /// Worker threads (default: one per core). Results do not depend on it.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=4096))]
     pub threads: Option<u64>,

@@ -3,13 +3,22 @@
 //! Counts (objects, materials, polygons, patches — one per lit side — and the elements the
 //! subdivision would make), the surface area, the emitted power Φ = Σ A·π·L_e per channel
 //! (W when lengths are metres), the bounding box, the cameras, and the warnings of loading.
+//!
+//! For every object whose polygons form a closed, oriented mesh (corners at equal positions
+//! merged), the Euler–Poincaré counts V − E + F = 2 (S − H) and the genus H
+//! ([`model::brep::closed_topology`]): a sphere has genus 0, a torus 1, a cube whose six faces
+//! a ball has cut open 5.
 
+use std::collections::HashMap;
 use std::io::Write;
 
 use anyhow::Result;
 use radiosity::mesh::{Mesh, Subdivision};
 use radiosity::Rgb;
 use radiosity::Scene;
+
+use model::brep::{closed_topology, EulerCounts};
+use model::PolyMesh;
 
 use crate::args::InfoArgs;
 
@@ -74,12 +83,57 @@ fn report(scene: &Scene, mesh: &Mesh) -> String {
             ),
         );
     }
+    for (name, c) in solids(scene) {
+        let chi = c.vertices as i64 - c.edges as i64 + c.faces as i64;
+        line(
+            "solid",
+            format!(
+                "{name}: V − E + F = {} − {} + {} = {chi} = 2 (S − H), S = {}, genus H = {}",
+                c.vertices, c.edges, c.faces, c.shells, c.holes
+            ),
+        );
+    }
     line("cameras", cameras.join(", "));
     line("warnings", scene.warnings.len().to_string());
     for w in &scene.warnings {
         s.push_str(&format!("  warning: {w}\n"));
     }
     s
+}
+
+/// The objects whose polygons make a closed, oriented mesh, with its Euler–Poincaré counts.
+fn solids(scene: &Scene) -> Vec<(&str, EulerCounts)> {
+    let mut meshes: Vec<(PolyMesh, HashMap<[u32; 3], u32>)> =
+        vec![(PolyMesh::default(), HashMap::new()); scene.objects.len()];
+    for p in &scene.polygons {
+        let Some((mesh, index)) = meshes.get_mut(p.object) else {
+            continue;
+        };
+        let mut face: Vec<u32> = p
+            .vertices
+            .iter()
+            .map(|v| {
+                *index
+                    .entry(v.to_array().map(f32::to_bits))
+                    .or_insert_with(|| {
+                        mesh.positions.push(*v);
+                        mesh.positions.len() as u32 - 1
+                    })
+            })
+            .collect();
+        face.dedup();
+        while face.len() > 1 && face.first() == face.last() {
+            face.pop();
+        }
+        mesh.faces.push(face);
+    }
+    scene
+        .objects
+        .iter()
+        .zip(&meshes)
+        .filter(|(_, (mesh, _))| mesh.faces.len() >= 4)
+        .filter_map(|(o, (mesh, _))| Some((o.name.as_str(), closed_topology(mesh).ok()?)))
+        .collect()
 }
 
 #[cfg(test)]
@@ -117,5 +171,41 @@ mod tests {
         );
         assert!(r.contains(&format!("elements      {}", mesh.element_count())));
         assert!(r.contains("bounds"));
+    }
+
+    #[test]
+    fn solids_report_gives_each_closed_object_its_genus() {
+        let scene = Scene::resolve("solids").expect("built-in");
+        let mesh = Mesh::build(&scene, Subdivision::Elements(100));
+        let r = report(&scene, &mesh);
+        let genus = |name: &str| -> Option<usize> {
+            r.lines()
+                .find(|l| l.starts_with("solid") && l.contains(&format!(" {name}: ")))
+                .and_then(|l| l.rsplit(' ').next())
+                .and_then(|g| g.parse().ok())
+        };
+        // A torus and its instances have one hole; the metaball blob none; the cube whose six
+        // faces the sphere cuts open, drilled through two corners, is the cube's frame
+        // (genus 5) with a tunnel through each of the two corners (genus 7).
+        for (name, g) in [
+            ("torus", 1),
+            ("ring_left", 1),
+            ("ring_right", 1),
+            ("blob", 0),
+            ("part", 7),
+        ] {
+            assert_eq!(genus(name), Some(g), "{name}\n{r}");
+        }
+        // Open objects (the walls) get no line.
+        assert_eq!(genus("floor"), None);
+        for l in r.lines().filter(|l| l.starts_with("solid")) {
+            let n: Vec<i64> = l
+                .split(|c: char| !c.is_ascii_digit() && c != '-')
+                .filter_map(|t| t.parse().ok())
+                .collect();
+            // V, E, F, χ, 2, S, H: the formula holds on the printed counts.
+            assert_eq!(n[0] - n[1] + n[2], n[3], "{l}");
+            assert_eq!(n[3], 2 * (n[5] - n[6]), "{l}");
+        }
     }
 }

@@ -7,7 +7,9 @@
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
+use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use radiosity::io::atomic::write_atomic;
@@ -19,6 +21,7 @@ use radiosity::pipeline::{self, Solved};
 use radiosity::plot::write_convergence_svg;
 use radiosity::render::{tonemap, RasterSettings};
 use radiosity::scene::Camera;
+use radiosity::solve::checkpoint::{Checkpoint, Checkpointing, Control};
 use radiosity::stats::Timings;
 use radiosity::Scene;
 
@@ -149,10 +152,92 @@ pub(crate) fn pick_camera<'a>(scene: &'a Scene, name: Option<&str>) -> Result<&'
 }
 
 /// Meshes, computes form factors and solves, with progress bars when stderr is a terminal.
+/// Ctrl-C stops the solve (see [`Interrupted`]); `--checkpoint` and `--resume` apply.
 pub(crate) fn run_solve(scene: Scene, common: &CommonArgs) -> Result<Solved> {
     let settings = settings::pipeline_settings(common);
+    let control = control(common)?;
     let bars = Bars::new(!common.quiet && std::io::stderr().is_terminal());
-    Ok(pipeline::solve(scene, &settings, &bars)?)
+    let solved = pipeline::solve_controlled(scene, &settings, &control, &bars);
+    match (solved, &common.resume) {
+        (Err(e), Some(path)) => {
+            Err(e).with_context(|| format!("{}: cannot resume", path.display()))
+        }
+        (solved, _) => Ok(solved?),
+    }
+}
+
+/// A solve stopped by Ctrl-C whose outputs were written: `main` reports it and exits with
+/// status 130 (the shell's convention for SIGINT).
+#[derive(Debug)]
+pub struct Interrupted(pub usize);
+
+impl std::fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "interrupted after {} iterations: wrote the solution so far",
+            self.0
+        )
+    }
+}
+
+impl std::error::Error for Interrupted {}
+
+/// The stop flag, set by the first Ctrl-C; the second ends the process at once (status 130).
+/// The handler is installed on first use; if it cannot be, Ctrl-C keeps its default effect.
+fn stop_flag() -> Arc<AtomicBool> {
+    static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
+    Arc::clone(FLAG.get_or_init(|| {
+        let flag = Arc::new(AtomicBool::new(false));
+        let handler_flag = Arc::clone(&flag);
+        let _ = ctrlc::set_handler(move || {
+            if handler_flag.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+        });
+        flag
+    }))
+}
+
+/// The solve's control: the Ctrl-C flag, `--checkpoint` and `--resume`.
+fn control(common: &CommonArgs) -> Result<Control> {
+    let resume = match &common.resume {
+        Some(path) => {
+            let text = std::fs::read(path)
+                .with_context(|| format!("{}: cannot resume", path.display()))?;
+            let cp = Checkpoint::from_json(&text)
+                .map_err(|e| anyhow::anyhow!("{}: cannot resume: {e}", path.display()))?;
+            Some(cp)
+        }
+        None => None,
+    };
+    let checkpoint = common.checkpoint.clone().map(|path| {
+        let quiet = common.quiet;
+        Checkpointing {
+            every: Duration::from_secs_f64(common.checkpoint_every),
+            save: Arc::new(move |cp: &Checkpoint| {
+                let written = cp
+                    .to_json()
+                    .map_err(std::io::Error::other)
+                    .and_then(|json| write_atomic(&path, |w| w.write_all(&json)));
+                if let Err(e) = written {
+                    if !quiet {
+                        let _ = writeln!(
+                            std::io::stderr(),
+                            "warning: {}: cannot write the checkpoint: {e}",
+                            path.display()
+                        );
+                    }
+                }
+            }),
+        }
+    });
+    Ok(Control {
+        stop: Some(stop_flag()),
+        checkpoint,
+        resume,
+        ..Control::default()
+    })
 }
 
 /// Writes the export and the stats of a finished job.
@@ -212,6 +297,9 @@ pub(crate) fn finish(
             stats.timings.total
         ),
     );
+    if solved.solution.interrupted {
+        return Err(Interrupted(solved.solution.iterations).into());
+    }
     Ok(())
 }
 
@@ -242,6 +330,9 @@ pub(crate) fn check_common_outputs(common: &CommonArgs) -> Result<()> {
     }
     if let Some(path) = &common.export {
         check_output(path, "export", &["ply", "glb", "html"])?;
+    }
+    if let Some(path) = &common.checkpoint {
+        check_directory(path)?;
     }
     Ok(())
 }

@@ -14,7 +14,9 @@
 //!
 //! Every failure prints one line `error: <cause>` on stderr (naming the file, line and key when
 //! the cause is in a scene) and exits with status 2; outputs are written atomically, so a failed
-//! run leaves no partial file.
+//! run leaves no partial file. Ctrl-C stops a solve between iterations: the solution so far is
+//! written to the requested outputs, the run says so and exits with status 130 (a second Ctrl-C
+//! ends it at once); `--checkpoint FILE` saves the solver state and `--resume FILE` continues.
 #![forbid(unsafe_code)]
 
 mod args;
@@ -37,6 +39,8 @@ use args::{Cli, Command};
 
 /// Exit status of every failure: bad input, bad flags, unwritable outputs.
 const FAILURE: u8 = 2;
+/// Exit status of a solve stopped by Ctrl-C after writing its outputs (128 + SIGINT).
+const INTERRUPTED: u8 = 130;
 
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
@@ -63,6 +67,10 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.is::<job::Interrupted>() => {
+            let _ = writeln!(std::io::stderr(), "{e}");
+            ExitCode::from(INTERRUPTED)
+        }
         Err(e) => fail(&format!("{e:#}")),
     }
 }

@@ -10,6 +10,7 @@ use crate::accel::Bvh;
 use crate::formfactor::{self, Geometry};
 use crate::mesh::{display, LitMesh, Mesh, Subdivision};
 use crate::progress::Progress;
+use crate::solve::checkpoint::{hash_text, Control};
 use crate::solve::matrix::Matrix;
 use crate::solve::{self, hierarchical, Solution, SolveError};
 use crate::stats::{Aggregate, Energy, SolverStats, Stats, Timings};
@@ -81,20 +82,42 @@ pub fn solve(
     settings: &Settings,
     progress: &dyn Progress,
 ) -> Result<Solved, PipelineError> {
+    solve_controlled(scene, settings, &Control::default(), progress)
+}
+
+/// [`solve`] under `control`: stopping early, checkpoints and resuming (see
+/// [`solve::checkpoint`]). The form-factor settings are folded into the checkpoints'
+/// fingerprint.
+///
+/// # Errors
+/// Those of [`solve`]; a checkpoint that belongs to another run, or checkpoints asked of the
+/// hierarchical solver.
+pub fn solve_controlled(
+    scene: Scene,
+    settings: &Settings,
+    control: &Control,
+    progress: &dyn Progress,
+) -> Result<Solved, PipelineError> {
     let mut timings = Timings::default();
     let start = Instant::now();
     let (roots, elements) = Mesh::plan(&scene, settings.subdivision);
     let limit = settings.solve.max_matrix_bytes;
     // Hierarchical radiosity refines from the root faces by its own oracle: the requested
     // uniform subdivision does not apply to it.
+    let hierarchical = |scene| {
+        if control.uses_checkpoints() {
+            return Err(SolveError::CheckpointUnsupported.into());
+        }
+        solve_hierarchical(scene, settings, progress, start)
+    };
     if settings.method == Some(solve::Method::Hierarchical) {
-        return solve_hierarchical(scene, settings, progress, start);
+        return hierarchical(scene);
     }
     if elements * BYTES_PER_ELEMENT > limit as f64 {
         return Err(PipelineError::TooManyElements { elements, limit });
     }
     if settings.method.is_none() && !gathering_fits(roots, elements, limit) {
-        return solve_hierarchical(scene, settings, progress, start);
+        return hierarchical(scene);
     }
     progress.start("meshing", 3);
     let mesh = Mesh::build(&scene, settings.subdivision);
@@ -113,7 +136,17 @@ pub fn solve(
         method,
         ..settings.solve
     };
-    let solution = solve::solve(&geometry, form_factors.as_ref(), &solve_settings, progress)?;
+    let control = Control {
+        context: hash_text(&format!("{:?}", settings.form_factors)),
+        ..control.clone()
+    };
+    let solution = solve::solve_controlled(
+        &geometry,
+        form_factors.as_ref(),
+        &solve_settings,
+        &control,
+        progress,
+    )?;
     timings.form_factors = solution.form_factor_seconds;
     timings.solve = solution.solve_seconds;
     let absorbed = absorbed_power(&geometry, form_factors.as_ref(), &solution);
@@ -174,6 +207,7 @@ fn solve_hierarchical(
         solve_seconds: run.solve_seconds,
         hierarchy: Some(run.stats),
         history: Vec::new(),
+        interrupted: false,
     };
     let lit = display::lit_mesh(&mesh, &solution.radiosity);
     Ok(Solved {

@@ -14,14 +14,21 @@
 //! boxes sharing a face fuse without a sliver.
 //!
 //! Splitting leaves T-junctions: a polygon cut by a plane gets a new vertex on an edge that the
-//! neighbouring polygon does not know about. The output is made watertight by welding vertices
-//! closer than a tolerance and inserting every vertex that lies on another polygon's edge into
-//! that edge, so every edge has exactly two oppositely oriented faces.
+//! neighbouring polygon does not know about, and where many planes cross near one point it
+//! leaves clusters of nearly coincident vertices. The output is made watertight by welding
+//! vertices closer than a tolerance, inserting every vertex that lies within it of another
+//! polygon's edge into that edge (the same set, in the same order along the edge, from both
+//! sides), removing the spikes and pinches this leaves and the zero-volume fins (a face and its
+//! reverse), so every edge has exactly two oppositely oriented faces. The tolerance starts just
+//! above the BSP's ε and grows by decades until the result is a closed, oriented 2-manifold
+//! (checked with [`crate::brep::closed_topology`]); every loop is bounded.
 
 use std::cmp::Ordering;
+use std::collections::HashSet;
 
 use glam::DVec3;
 
+use crate::brep::closed_topology;
 use crate::spatial::bsp::{self, BspTree, Polygon};
 use crate::PolyMesh;
 
@@ -59,7 +66,7 @@ pub fn apply(op: CsgOp, a: &PolyMesh, b: &PolyMesh) -> PolyMesh {
     if invert_a {
         ta.invert();
     }
-    weld(ta.all_polygons())
+    close(&ta.all_polygons())
 }
 
 /// A ∪ B.
@@ -80,15 +87,37 @@ pub fn difference(a: &PolyMesh, b: &PolyMesh) -> PolyMesh {
     apply(CsgOp::Difference, a, b)
 }
 
-/// The faces of `mesh` as convex polygons in double precision.
+/// The faces of `mesh` as convex polygons in double precision. Corners within the BSP's ε of
+/// the line through their neighbours (the T-junction vertices of an earlier Boolean, made
+/// slightly reflex by rounding to f32) are dropped first: they do not change the face, and the
+/// final weld puts them back into the edge. Faces still not convex are fanned into triangles.
 fn polygons(mesh: &PolyMesh) -> Vec<Polygon> {
     let mut out = Vec::with_capacity(mesh.faces.len());
     for face in &mesh.faces {
-        let vs: Vec<DVec3> = face
+        let mut vs: Vec<DVec3> = face
             .iter()
             .filter_map(|&i| mesh.positions.get(i as usize))
             .map(|p| p.as_dvec3())
             .collect();
+        // Each pass removes one corner, so at most `len` passes.
+        while vs.len() > 3 {
+            let n = vs.len();
+            let straight = (0..n).find(|&k| {
+                let (a, b, c) = (vs[(k + n - 1) % n], vs[k], vs[(k + 1) % n]);
+                let d = c - a;
+                let len2 = d.length_squared();
+                len2 > 0.0 && {
+                    let t = ((b - a).dot(d) / len2).clamp(0.0, 1.0);
+                    (a + d * t).distance(b) <= bsp::EPSILON
+                }
+            });
+            match straight {
+                Some(k) => {
+                    vs.remove(k);
+                }
+                None => break,
+            }
+        }
         let Some(poly) = Polygon::new(vs.clone()) else {
             continue;
         };
@@ -116,26 +145,41 @@ fn is_convex(p: &Polygon) -> bool {
     })
 }
 
-/// Polygons → an indexed mesh: vertices closer than the tolerance welded, slivers thinner than
-/// it dropped, T-junctions removed by inserting vertices that lie on an edge into it.
-fn weld(polys: Vec<Polygon>) -> PolyMesh {
-    // Weld: sort corners by x and merge those within `tol` (union-find, smallest index wins).
-    // Splits of nearly parallel planes can leave features far below the model's size; the
-    // tolerance, 10⁻⁴ of the bounding diagonal (and never below the BSP's ε), removes them.
-    let corners: Vec<DVec3> = polys
-        .iter()
-        .flat_map(|p| p.vertices.iter().copied())
-        .collect();
-    let (lo, hi) = corners.iter().fold(
+/// Polygons → a closed indexed mesh. [`weld`] is tried with tolerances growing from just above
+/// the BSP's ε to 10⁻³ of the bounding diagonal; the first result that is a closed, oriented
+/// 2-manifold ([`closed_topology`]) is returned (else the last, the most aggressive). A small
+/// tolerance keeps small true features; a larger one is needed where many splitting planes
+/// cross near one point and leave a cluster of nearly coincident vertices.
+fn close(polys: &[Polygon]) -> PolyMesh {
+    let (lo, hi) = polys.iter().flat_map(|p| p.vertices.iter()).fold(
         (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
         |(lo, hi), &p| (lo.min(p), hi.max(p)),
     );
-    let diagonal = if corners.is_empty() {
+    let diagonal = if polys.is_empty() {
         0.0
     } else {
         (hi - lo).length()
     };
-    let tol = (diagonal * 1e-4).max(bsp::EPSILON * 10.0);
+    let mut mesh = PolyMesh::default();
+    for scale in [1e-7, 1e-6, 1e-5, 1e-4, 1e-3] {
+        mesh = weld(polys, (diagonal * scale).max(bsp::EPSILON * 4.0));
+        if closed_topology(&mesh).is_ok() {
+            break;
+        }
+    }
+    mesh
+}
+
+/// Polygons → an indexed mesh: vertices closer than `tol` welded, T-junctions removed by
+/// inserting vertices that lie within `tol` of an edge into it, spikes removed, pinched faces
+/// split into their loops, and loops with fewer than three corners and zero-volume fins (a
+/// face and its reverse) dropped.
+fn weld(polys: &[Polygon], tol: f64) -> PolyMesh {
+    // Weld: sort corners by x and merge those within `tol` (union-find, smallest index wins).
+    let corners: Vec<DVec3> = polys
+        .iter()
+        .flat_map(|p| p.vertices.iter().copied())
+        .collect();
     let mut order: Vec<usize> = (0..corners.len()).collect();
     order.sort_by(|&i, &j| {
         corners[i]
@@ -175,26 +219,14 @@ fn weld(polys: Vec<Polygon>) -> PolyMesh {
     // Faces by welded index, without repeated corners.
     let mut faces: Vec<Vec<u32>> = Vec::with_capacity(polys.len());
     let mut at = 0;
-    for p in &polys {
+    for p in polys {
         let mut f: Vec<u32> = index[at..at + p.vertices.len()].to_vec();
         at += p.vertices.len();
         f.dedup();
         while f.len() > 1 && f.first() == f.last() {
             f.pop();
         }
-        // A sliver thinner than the tolerance (a corner on the opposite edge) would make the
-        // T-junction pass run an edge both ways; its neighbours close the gap without it.
-        let mut newell = DVec3::ZERO;
-        let mut longest: f64 = 0.0;
-        for k in 0..f.len() {
-            let (pa, pb) = (
-                positions[f[k] as usize],
-                positions[f[(k + 1) % f.len()] as usize],
-            );
-            newell += pa.cross(pb);
-            longest = longest.max(pa.distance(pb));
-        }
-        if f.len() >= 3 && newell.length() * 0.5 > tol * longest {
+        if f.len() >= 3 {
             faces.push(f);
         }
     }
@@ -249,12 +281,36 @@ fn weld(polys: Vec<Polygon>) -> PolyMesh {
         }
         *f = out;
     }
-    faces.retain(|f| {
-        let mut distinct = f.clone();
-        distinct.sort_unstable();
-        distinct.dedup();
-        distinct.len() >= 3
-    });
+    // A face pinched at a repeated corner (two sliver parts welded together) becomes one face
+    // per loop; loops with fewer than three distinct corners are dropped.
+    let mut loops: Vec<Vec<u32>> = Vec::with_capacity(faces.len());
+    for f in &faces {
+        let mut path: Vec<u32> = Vec::with_capacity(f.len());
+        for &v in f {
+            if let Some(j) = path.iter().position(|&u| u == v) {
+                loops.push(path.split_off(j));
+            }
+            path.push(v);
+        }
+        loops.push(path);
+    }
+    loops.retain(|f| f.len() >= 3);
+    // Two faces on the same corners in opposite order are a fin of zero volume: drop both.
+    let canonical = |f: &[u32]| {
+        let k = (0..f.len()).min_by_key(|&k| f[k]).unwrap_or(0);
+        let mut c = f.to_vec();
+        c.rotate_left(k);
+        c
+    };
+    let seen: HashSet<Vec<u32>> = loops.iter().map(|f| canonical(f)).collect();
+    let faces: Vec<Vec<u32>> = loops
+        .into_iter()
+        .filter(|f| {
+            let mut r = f.clone();
+            r.reverse();
+            !seen.contains(&canonical(&r))
+        })
+        .collect();
     PolyMesh {
         positions: positions.iter().map(|p| p.as_vec3()).collect(),
         faces,

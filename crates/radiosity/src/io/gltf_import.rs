@@ -80,6 +80,18 @@ pub fn read_gltf(path: &Path) -> Result<GltfFile, SceneError> {
 /// As [`read_gltf`].
 pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
     let err = |m: String| SceneError::in_file(file, m);
+    // The `gltf` crate subtracts the 12-byte header from the GLB's declared length unchecked
+    // (an overflow panic in debug builds), so a shorter declared length is refused first.
+    if let Some(length) = bytes
+        .strip_prefix(b"glTF")
+        .and_then(|rest| rest.get(4..8))
+        .map(|l| u32::from_le_bytes([l[0], l[1], l[2], l[3]]))
+        .filter(|&l| l < 12)
+    {
+        return Err(err(format!(
+            "invalid glTF: the GLB header declares {length} bytes, fewer than the header's 12"
+        )));
+    }
     let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| err(format!("invalid glTF: {e}")))?;
     let buffers = load_buffers(&gltf, file)?;
     let doc = &gltf.document;
@@ -509,7 +521,15 @@ mod tests {
 
     #[test]
     fn bad_input_is_an_error_not_a_panic() {
-        for bad in ["", "{", "{\"asset\":{}}", "glTF\u{2}\0\0\0"] {
+        // The last: a GLB header declaring a total length of 0 (found by the `gltf` fuzz target).
+        let glb_length_zero = "glTF\u{2}\0\0\0\0\0\0\0\u{7f}\0\0\0JSON{\"asset\":";
+        for bad in [
+            "",
+            "{",
+            "{\"asset\":{}}",
+            "glTF\u{2}\0\0\0",
+            glb_length_zero,
+        ] {
             assert!(
                 parse_gltf(bad.as_bytes(), Path::new("x.glb")).is_err(),
                 "{bad:?}"

@@ -10,24 +10,33 @@
 //! current incrementally, and recomputed exactly at the start of every sweep so rounding does
 //! not accumulate. A sweep is sequential, hence deterministic.
 
-use super::jacobi::gather;
+use super::checkpoint::Session;
+use super::jacobi::{gather, iterate};
 use super::matrix::Matrix;
 use super::{l1, Run, Settings, System};
 use crate::progress::Progress;
 use crate::Rgb;
 
-/// Sweeps until the residual falls below the tolerance or the iteration limit is reached.
+/// Sweeps until the residual falls below the tolerance, the iteration limit is reached or the
+/// session is stopped (from B = E, or from the session's checkpoint).
 pub(super) fn run(
     system: &System,
     matrix: &Matrix,
     settings: &Settings,
+    session: &mut Session,
     progress: &dyn Progress,
 ) -> Run {
-    let mut b = system.emission.clone();
+    let (mut b, mut iterations, mut residual) = match session.resume() {
+        Some(it) => (it.radiosity, it.iterations, it.residual),
+        None => (system.emission.clone(), 0, 1.0),
+    };
     let mut means = vec![Rgb::ZERO; system.source_area.len()];
-    let (mut iterations, mut residual) = (0, 1.0);
-    let (start, mut history) = (std::time::Instant::now(), Vec::new());
+    let (start, mut history, mut interrupted) = (std::time::Instant::now(), Vec::new(), false);
     while iterations < settings.max_iterations && residual >= settings.tolerance {
+        if session.stopped() {
+            interrupted = true;
+            break;
+        }
         system.source_means(&b, &mut means);
         let mut moved = 0.0;
         for (e, value) in b.iter_mut().enumerate() {
@@ -44,11 +53,16 @@ pub(super) fn run(
         iterations += 1;
         history.push((iterations, start.elapsed().as_secs_f64(), residual));
         progress.advance(1);
+        session.after_iteration(false, || iterate(&b, iterations, residual));
+    }
+    if interrupted {
+        session.after_iteration(true, || iterate(&b, iterations, residual));
     }
     Run {
         radiosity: b,
         iterations,
         residual,
         history,
+        interrupted,
     }
 }

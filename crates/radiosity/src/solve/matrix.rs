@@ -6,6 +6,8 @@
 //! [`SolveError::MatrixTooLarge`], never an abort. Rows are filled in parallel in chunks; each
 //! row depends on its element only, so the matrix is the same at any thread count.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use rayon::prelude::*;
 
 use super::SolveError;
@@ -43,6 +45,29 @@ impl Matrix {
         limit: u64,
         progress: &dyn Progress,
     ) -> Result<Self, SolveError> {
+        Self::fill(g, ff, limit, None, progress)
+    }
+
+    /// [`Matrix::compute`], abandoned (`Ok(None)`) when `stop` is set: the chunks of rows not
+    /// yet begun are skipped.
+    pub(super) fn compute_unless_stopped(
+        g: &Geometry,
+        ff: &dyn FormFactors,
+        limit: u64,
+        stop: &AtomicBool,
+        progress: &dyn Progress,
+    ) -> Result<Option<Self>, SolveError> {
+        let matrix = Self::fill(g, ff, limit, Some(stop), progress)?;
+        Ok((!stop.load(Ordering::Relaxed)).then_some(matrix))
+    }
+
+    fn fill(
+        g: &Geometry,
+        ff: &dyn FormFactors,
+        limit: u64,
+        stop: Option<&AtomicBool>,
+        progress: &dyn Progress,
+    ) -> Result<Self, SolveError> {
         let (rows, sources) = (g.mesh.element_count(), g.sources.len());
         let bytes = Self::bytes(rows, sources);
         let too_large = SolveError::MatrixTooLarge { bytes, limit };
@@ -58,6 +83,9 @@ impl Matrix {
             data.par_chunks_mut(CHUNK_ROWS * sources)
                 .enumerate()
                 .for_each(|(chunk, block)| {
+                    if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+                        return;
+                    }
                     for (k, row) in block.chunks_mut(sources).enumerate() {
                         ff.row(g, chunk * CHUNK_ROWS + k, row);
                     }

@@ -36,7 +36,14 @@
 //! progressive refinement. Both are the power not yet distributed, so r = 1 before any work and
 //! the solvers stop when r < [`Settings::tolerance`]. In a scene of reflectance ρ the error left
 //! in the total power is about r·ρ/(1 − ρ) of the emitted power.
+//!
+//! # Interruption
+//!
+//! [`solve_controlled`] takes a [`checkpoint::Control`]: a stop flag checked between
+//! iterations (the solution so far is returned, marked [`Solution::interrupted`]), periodic
+//! checkpoints, and a checkpoint to resume from (see [`checkpoint`]).
 
+pub mod checkpoint;
 pub mod gauss_seidel;
 pub mod hierarchical;
 pub mod jacobi;
@@ -184,6 +191,9 @@ pub struct Solution {
     /// Convergence: (iteration, seconds since the iterations began, residual) after each
     /// sweep or shot (empty when the solver does not record it).
     pub history: Vec<(usize, f64, f64)>,
+    /// Whether the solve was stopped (see [`checkpoint::Control::stop`]) before it converged:
+    /// the radiosity is then the last iterate, or E when the form factors were not complete.
+    pub interrupted: bool,
 }
 
 /// Why a solve failed.
@@ -201,6 +211,12 @@ pub enum SolveError {
         /// The limit in force.
         limit: u64,
     },
+    /// The checkpoint to resume from was made by another solver, scene or settings.
+    #[error("the checkpoint does not belong to this run: {0}")]
+    CheckpointMismatch(String),
+    /// The hierarchical solver does not take checkpoints.
+    #[error("the hierarchical solver cannot checkpoint or resume: choose `--solver gauss-seidel`, `--solver jacobi` or `--solver progressive`")]
+    CheckpointUnsupported,
     /// The sources are not a cut through the quadtrees.
     #[error("the sources do not cover element {element} exactly once")]
     BadSources {
@@ -229,7 +245,28 @@ pub fn solve(
     settings: &Settings,
     progress: &dyn Progress,
 ) -> Result<Solution, SolveError> {
+    solve_controlled(g, ff, settings, &checkpoint::Control::default(), progress)
+}
+
+/// [`solve`] under `control`: stopping early, saving checkpoints, resuming from one (see
+/// [`checkpoint`]).
+///
+/// # Errors
+/// Those of [`solve`]; [`SolveError::CheckpointMismatch`] when the checkpoint to resume from
+/// was made for another system or method, and [`SolveError::CheckpointUnsupported`] when the
+/// hierarchical solver is asked for checkpoints.
+pub fn solve_controlled(
+    g: &Geometry,
+    ff: &dyn FormFactors,
+    settings: &Settings,
+    control: &checkpoint::Control,
+    progress: &dyn Progress,
+) -> Result<Solution, SolveError> {
     let system = System::new(g)?;
+    if settings.method == Method::Hierarchical && control.uses_checkpoints() {
+        return Err(SolveError::CheckpointUnsupported);
+    }
+    let mut session = checkpoint::Session::new(control, &system, settings.method)?;
     let mut solution = Solution {
         radiosity: system.emission.clone(),
         method: settings.method,
@@ -241,6 +278,7 @@ pub fn solve(
         solve_seconds: 0.0,
         hierarchy: None,
         history: Vec::new(),
+        interrupted: false,
     };
     if system.emitted <= 0.0 || !system.emitted.is_finite() {
         return Ok(solution);
@@ -248,21 +286,36 @@ pub fn solve(
     match settings.method {
         Method::Jacobi | Method::GaussSeidel => {
             let start = Instant::now();
-            let matrix = matrix::Matrix::compute(g, ff, settings.max_matrix_bytes, progress)?;
+            let limit = settings.max_matrix_bytes;
+            let matrix = match &control.stop {
+                Some(stop) => matrix::Matrix::compute_unless_stopped(g, ff, limit, stop, progress)?,
+                None => Some(matrix::Matrix::compute(g, ff, limit, progress)?),
+            };
             solution.form_factor_seconds = start.elapsed().as_secs_f64();
+            let Some(matrix) = matrix else {
+                // Stopped before any sweep: what there is, E or the resumed iterate.
+                if let Some(it) = session.resume() {
+                    solution.radiosity = it.radiosity;
+                    solution.iterations = it.iterations;
+                    solution.residual = it.residual;
+                }
+                solution.interrupted = true;
+                return Ok(solution);
+            };
             solution.links = matrix.links();
             let start = Instant::now();
             progress.start("solve", 0);
             let run = if settings.method == Method::Jacobi {
-                jacobi::run(&system, &matrix, settings, progress)
+                jacobi::run(&system, &matrix, settings, &mut session, progress)
             } else {
-                gauss_seidel::run(&system, &matrix, settings, progress)
+                gauss_seidel::run(&system, &matrix, settings, &mut session, progress)
             };
             progress.finish();
             solution.radiosity = run.radiosity;
             solution.iterations = run.iterations;
             solution.residual = run.residual;
             solution.history = run.history;
+            solution.interrupted = run.interrupted;
             solution.solve_seconds = start.elapsed().as_secs_f64();
         }
         Method::Hierarchical => {
@@ -285,7 +338,7 @@ pub fn solve(
         Method::Progressive => {
             let start = Instant::now();
             progress.start("solve", 0);
-            let run = progressive::run(&system, g, ff, settings, progress);
+            let run = progressive::run(&system, g, ff, settings, &mut session, progress);
             progress.finish();
             solution.radiosity = run.radiosity;
             solution.iterations = run.iterations;
@@ -293,6 +346,7 @@ pub fn solve(
             solution.history = run.history;
             solution.links = run.links;
             solution.ambient = run.ambient;
+            solution.interrupted = run.interrupted;
             solution.form_factor_seconds = run.form_factor_seconds;
             solution.solve_seconds = start.elapsed().as_secs_f64() - run.form_factor_seconds;
         }
@@ -307,6 +361,8 @@ pub(crate) struct Run {
     residual: f64,
     /// (iteration, seconds, residual) after each sweep.
     history: Vec<(usize, f64, f64)>,
+    /// Whether the session was stopped before convergence.
+    interrupted: bool,
 }
 
 /// The linear system in solver-friendly arrays.

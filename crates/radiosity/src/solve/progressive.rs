@@ -29,6 +29,7 @@
 
 use std::time::Instant;
 
+use super::checkpoint::{Iterate, Session};
 use super::{l1, Settings, System};
 use crate::formfactor::{FormFactors, Geometry};
 use crate::progress::Progress;
@@ -44,22 +45,31 @@ pub(super) struct Shots {
     pub form_factor_seconds: f64,
     /// (shot, seconds, unshot fraction) after each shot.
     pub history: Vec<(usize, f64, f64)>,
+    /// Whether the session was stopped before convergence.
+    pub interrupted: bool,
 }
 
-/// Shoots until the unshot power is below the tolerance or the iteration limit is reached.
+/// Shoots until the unshot power is below the tolerance, the iteration limit is reached or the
+/// session is stopped (from B = E, or from the session's checkpoint).
 pub(super) fn run(
     system: &System,
     g: &Geometry,
     ff: &dyn FormFactors,
     settings: &Settings,
+    session: &mut Session,
     progress: &dyn Progress,
 ) -> Shots {
     let n = system.area.len();
-    let mut b = system.emission.clone();
-    let mut unshot = vec![Rgb::ZERO; system.source_area.len()];
-    system.source_means(&system.emission, &mut unshot);
+    let (mut b, mut unshot, mut iterations, mut links) = match session.resume() {
+        Some(it) => (it.radiosity, it.unshot, it.iterations, it.links),
+        None => {
+            let mut unshot = vec![Rgb::ZERO; system.source_area.len()];
+            system.source_means(&system.emission, &mut unshot);
+            (system.emission.clone(), unshot, 0, 0u64)
+        }
+    };
     let mut column = vec![0.0f32; n];
-    let (mut iterations, mut links, mut ff_seconds) = (0, 0u64, 0.0);
+    let mut ff_seconds = 0.0;
     let unshot_power = |unshot: &[Rgb]| -> f64 {
         unshot
             .iter()
@@ -68,8 +78,19 @@ pub(super) fn run(
             .sum()
     };
     let mut residual = unshot_power(&unshot) / system.emitted;
-    let (started, mut history) = (Instant::now(), Vec::new());
+    let (started, mut history, mut interrupted) = (Instant::now(), Vec::new(), false);
+    let state = |b: &[Rgb], unshot: &[Rgb], iterations, residual, links| Iterate {
+        iterations,
+        residual,
+        links,
+        radiosity: b.to_vec(),
+        unshot: unshot.to_vec(),
+    };
     while iterations < settings.max_iterations && residual >= settings.tolerance {
+        if session.stopped() {
+            interrupted = true;
+            break;
+        }
         // The source with the most unshot power (the first of equals).
         let mut s = 0;
         let mut best = -1.0;
@@ -99,6 +120,10 @@ pub(super) fn run(
         iterations += 1;
         history.push((iterations, started.elapsed().as_secs_f64(), residual));
         progress.advance(1);
+        session.after_iteration(false, || state(&b, &unshot, iterations, residual, links));
+    }
+    if interrupted {
+        session.after_iteration(true, || state(&b, &unshot, iterations, residual, links));
     }
     Shots {
         radiosity: b,
@@ -108,6 +133,7 @@ pub(super) fn run(
         ambient: ambient(system, &unshot),
         form_factor_seconds: ff_seconds,
         history,
+        interrupted,
     }
 }
 

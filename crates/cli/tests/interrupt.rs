@@ -1,0 +1,192 @@
+//! Ctrl-C during a solve, checkpoints and resuming, through the command line.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::Duration;
+
+fn radiosity() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_radiosity"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("radiosity-interrupt-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+fn stats_iterations(path: &Path) -> (String, u64) {
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(path).expect("stats written")).expect("valid JSON");
+    let solver = &json["solver"];
+    let objects = json["objects"].to_string();
+    (objects, solver["iterations"].as_u64().expect("iterations"))
+}
+
+/// A progressive solve far too long to finish: 3000 elements to a residual of 10⁻¹².
+fn long_render(dir: &Path) -> Command {
+    let mut cmd = radiosity();
+    cmd.args([
+        "render",
+        "cornell",
+        "--solver",
+        "progressive",
+        "--elements",
+        "3000",
+    ])
+    .args([
+        "--tolerance",
+        "1e-12",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "-o",
+    ])
+    .arg(dir.join("out.png"))
+    .arg("--stats")
+    .arg(dir.join("stats.json"))
+    .arg("--checkpoint")
+    .arg(dir.join("state.json"))
+    .stdout(Stdio::null())
+    .stderr(Stdio::piped());
+    cmd
+}
+
+#[test]
+fn sigint_writes_the_solution_so_far_and_exits_130() {
+    let dir = scratch("sigint");
+    let child = long_render(&dir).spawn().expect("spawns");
+    std::thread::sleep(Duration::from_secs(3));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(killed.success());
+    let out: Output = child.wait_with_output().expect("waits");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    let line = stderr
+        .lines()
+        .find(|l| l.starts_with("interrupted after "))
+        .unwrap_or_else(|| panic!("no interruption message in {stderr}"));
+    assert!(
+        line.ends_with("iterations: wrote the solution so far"),
+        "{line}"
+    );
+    let png = std::fs::read(dir.join("out.png")).expect("image written");
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let (_, iterations) = stats_iterations(&dir.join("stats.json"));
+    assert!(
+        line.contains(&format!(" {iterations} iterations")),
+        "{line}"
+    );
+    // The checkpoint saved at the interruption resumes; only the final files remain.
+    let state = std::fs::read(dir.join("state.json")).expect("checkpoint written");
+    assert!(!state.is_empty());
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["out.png", "state.json", "stats.json"]);
+    std::fs::remove_dir_all(&dir).expect("cleanup");
+}
+
+/// A progressive solve of a small Cornell box to convergence, optionally capped or resumed.
+fn small_solve(dir: &Path, extra: &[&str], stats: &str) -> Output {
+    radiosity()
+        .args([
+            "solve",
+            "cornell",
+            "--solver",
+            "progressive",
+            "--elements",
+            "150",
+        ])
+        .args([
+            "--form-factors",
+            "raycast",
+            "--quadrature",
+            "1",
+            "--rays",
+            "4",
+        ])
+        .args([
+            "--tolerance",
+            "1e-5",
+            "--checkpoint-every",
+            "0.000001",
+            "-q",
+        ])
+        .args(extra)
+        .arg("--stats")
+        .arg(dir.join(stats))
+        .output()
+        .expect("runs")
+}
+
+#[test]
+fn resuming_a_checkpoint_gives_the_uninterrupted_answer() {
+    let dir = scratch("resume");
+    let state = dir.join("state.json");
+    let state = state.to_str().expect("utf-8 path");
+    let full = small_solve(&dir, &[], "full.json");
+    assert!(full.status.success());
+    let (objects, iterations) = stats_iterations(&dir.join("full.json"));
+    let half = (iterations / 2).to_string();
+    let capped = small_solve(
+        &dir,
+        &["--max-iterations", &half, "--checkpoint", state],
+        "half.json",
+    );
+    assert!(capped.status.success());
+    let resumed = small_solve(&dir, &["--resume", state], "resumed.json");
+    assert!(
+        resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    assert_eq!(
+        stats_iterations(&dir.join("resumed.json")),
+        (objects, iterations)
+    );
+    std::fs::remove_dir_all(&dir).expect("cleanup");
+}
+
+#[test]
+fn a_mismatched_or_broken_checkpoint_is_refused_with_one_line() {
+    let dir = scratch("mismatch");
+    let state = dir.join("state.json");
+    let state_arg = state.to_str().expect("utf-8 path");
+    let made = small_solve(
+        &dir,
+        &["--max-iterations", "5", "--checkpoint", state_arg],
+        "a.json",
+    );
+    assert!(made.status.success());
+    let other = small_solve(&dir, &["--resume", state_arg, "--seed", "7"], "b.json");
+    let broken = dir.join("broken.json");
+    std::fs::write(&broken, b"{\"format\": 1").expect("write");
+    let garbage = small_solve(
+        &dir,
+        &["--resume", broken.to_str().expect("utf-8")],
+        "c.json",
+    );
+    for (out, cause) in [
+        (other, "does not belong to this run"),
+        (garbage, "not a checkpoint"),
+    ] {
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(
+            stderr.starts_with("error: ") && stderr.contains("cannot resume"),
+            "{stderr}"
+        );
+        assert!(stderr.contains(cause), "{stderr}");
+    }
+    assert!(!dir.join("b.json").exists() && !dir.join("c.json").exists());
+    std::fs::remove_dir_all(&dir).expect("cleanup");
+}
