@@ -283,9 +283,15 @@ fn every_bad_input_is_reported_with_line_column_and_key() {
     let vs = "[[0, 0, 0], [1, 1, 1], [2, 2, 2], [3, 3, 3]]";
     let t = poly(vs);
     assert_error(&t, vs, "objects[0].vertices", "collinear");
-    let vs = "[[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0]]";
-    let t = poly(vs);
-    assert_error(&t, vs, "objects[0].vertices", "not planar");
+    // Strongly non-planar: not an error, split into triangles with a warning.
+    let t = poly("[[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0]]");
+    let scene = Scene::from_toml_str(&t, Path::new("bad.toml")).expect("non-planar is repaired");
+    assert_eq!(scene.polygons.len(), 2, "fanned into two triangles");
+    assert!(
+        scene.warnings.iter().any(|w| w.contains("non-planar")),
+        "{:?}",
+        scene.warnings
+    );
     let t = format!(
         "{MATERIALS}[[objects]]\nname = \"m\"\nshape = \"mesh\"\npath = \"nowhere/x.obj\"\n"
     );

@@ -205,7 +205,7 @@ fn build_object(b: &mut Builder, desc: &SceneDesc, o: &ObjectDesc) -> Result<(),
     let m = material.unwrap_or(0);
     match &o.shape {
         ShapeDesc::Polygon { vertices } => {
-            build_polygon(b, &vertices.value, &transform, m, object);
+            build_polygon(b, &vertices.value, &transform, m, object, &label);
         }
         ShapeDesc::Box { min, max } => {
             let mesh = model::primitives::cuboid(min.value, max.value);
@@ -254,21 +254,14 @@ fn build_polygon(
     t: &Transform,
     material: usize,
     object: usize,
+    label: &str,
 ) {
     let mut vs: Vec<Vec3> = vertices.iter().map(|&v| t.point(v)).collect();
     if t.mirrors() {
         vs.reverse();
     }
-    // Drop repeated consecutive corners (and a closing repeat of the first).
-    vs.dedup();
-    if vs.len() > 1 && vs.first() == vs.last() {
-        vs.pop();
-    }
-    b.scene.polygons.push(Polygon {
-        vertices: vs,
-        material,
-        object,
-    });
+    // Repeated corners are dropped and a strongly non-planar polygon is fanned, with a warning.
+    b.add_faces(std::iter::once((vs, material, object)), label);
 }
 
 /// An OBJ file as the faces of one object, with its own materials unless `material` is given.

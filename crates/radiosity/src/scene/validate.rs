@@ -2,7 +2,9 @@
 //!
 //! Ranges follow the physics of DESIGN.md §2: a diffuse reflectance ρ must satisfy 0 ≤ ρ < 1
 //! per channel (ρ = 1 would make the radiosity system B = E + ρFB singular in a closed scene),
-//! emitted radiance is non-negative, and every polygon must be a proper planar polygon.
+//! emitted radiance is non-negative, and every polygon must be a proper polygon; one that is
+//! strongly non-planar (beyond the tolerance below) is not an error but is split into triangles
+//! with a warning when the scene is built.
 //!
 //! A polygon's plane is the one through its centroid c with normal n = A/|A|, where A is the
 //! Newell vector area ½ Σ vᵢ × vᵢ₊₁. It is accepted when
@@ -240,8 +242,11 @@ fn check_object(desc: &SceneDesc, o: &ObjectDesc) -> Result<(), SceneError> {
     }
     match &o.shape {
         ShapeDesc::Polygon { vertices } => {
-            if let Some(problem) = polygon_problem(&vertices.value) {
-                return Err(fail(desc, vertices, problem.to_string()));
+            // Strongly non-planar polygons are split into triangles by the builder, with a
+            // warning; degenerate ones are errors.
+            match polygon_problem(&vertices.value) {
+                None | Some(PolygonProblem::NonPlanar(_)) => {}
+                Some(problem) => return Err(fail(desc, vertices, problem.to_string())),
             }
         }
         ShapeDesc::Box { min, max } => {
