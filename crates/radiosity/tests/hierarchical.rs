@@ -211,10 +211,13 @@ fn shadow_boundaries_get_denser_elements_than_open_floor() {
     let density = |b: (usize, f64)| b.0 as f64 / b.1;
     eprintln!("penumbra {penumbra:?} open {open:?}");
     assert!(penumbra.0 > 20, "{penumbra:?}");
-    // Measured at ε = 1e-3: 1.6e-3 elements per unit² in the penumbra, 1.4e-3 in the open
-    // (before the visibility fix it was 0.7×). The 2× needs a gradient-driven display
-    // refinement stronger than the one pass of GRADIENT; what holds is "denser".
-    assert!(density(penumbra) > density(open), "{penumbra:?} {open:?}");
+    // Measured at ε = 1e-3: 2.15e-3 elements per unit² in the penumbra, 1.46e-3 in the open,
+    // 1.47× (1.2× while the display criterion's scale included the light's own emission,
+    // which hid every shadow boundary). Asserted: at least 1.3×.
+    assert!(
+        density(penumbra) > 1.3 * density(open),
+        "{penumbra:?} {open:?}"
+    );
 }
 
 /// Per-object mean radiosity: the largest relative difference over objects and channels.

@@ -245,12 +245,17 @@ fn brightness(state: &State) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// Elements whose radiosity differs from a sibling's by more than [`GRADIENT`] of the
-/// brightest element (largest channel), sorted.
+/// brightest reflected radiosity B − E of any element (largest channel), sorted. Emission is
+/// left out of the scale: a light source is far brighter than anything it lights, and would
+/// hide every shadow boundary.
 fn gradient_receivers(mesh: &Mesh, state: &State) -> Vec<u32> {
     let brightest = mesh
         .elements
         .iter()
-        .map(|&n| state.node_b[n as usize].max_element())
+        .map(|&n| {
+            let emission = mesh.patches[mesh.nodes[n as usize].patch as usize].emission;
+            (state.node_b[n as usize] - emission).max_element()
+        })
         .fold(0.0, f64::max);
     let limit = GRADIENT * brightest;
     let mut out = Vec::new();
