@@ -92,7 +92,30 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
             "invalid glTF: the GLB header declares {length} bytes, fewer than the header's 12"
         )));
     }
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| err(format!("invalid glTF: {e}")))?;
+    let invalid = |e: gltf::Error| err(format!("invalid glTF: {e}"));
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(invalid)?;
+    // Validation in `gltf-json` 1.4 indexes the accessors with a primitive's POSITION index
+    // unchecked (a panic), so that index is checked before the document is validated.
+    let json = gltf.document.as_json();
+    let positions = gltf::json::validation::Checked::Valid(gltf::json::mesh::Semantic::Positions);
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        let position = |p: &gltf::json::mesh::Primitive| p.attributes.get(&positions).copied();
+        if let Some(a) = mesh
+            .primitives
+            .iter()
+            .filter_map(position)
+            .find(|a| a.value() >= json.accessors.len())
+        {
+            return Err(err(format!(
+                "invalid glTF: mesh {m}: POSITION accessor {} does not exist",
+                a.value()
+            )));
+        }
+    }
+    let gltf = gltf::Gltf {
+        document: gltf::Document::from_json(gltf.document.into_json()).map_err(invalid)?,
+        blob: gltf.blob,
+    };
     let buffers = load_buffers(&gltf, file)?;
     let doc = &gltf.document;
     let mut out = GltfFile::default();
@@ -193,6 +216,14 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
             };
             let mirrors = world.determinant() < 0.0;
             for primitive in mesh.primitives() {
+                // The `gltf` reader panics (`unreachable!`) on accessor types that the glTF
+                // specification forbids for these attributes and that its validation lets by.
+                if let Some(what) = bad_accessor_type(&primitive) {
+                    return Err(err(format!(
+                        "mesh `{}`: the {what} accessor has a type glTF does not allow",
+                        mesh.name().unwrap_or("")
+                    )));
+                }
                 let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
                 let Some(positions) = reader.read_positions() else {
                     continue;
@@ -308,6 +339,31 @@ fn triangles(mode: Mode, indices: &[u32]) -> Option<Vec<[u32; 3]>> {
             .collect(),
         Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip => return None,
     })
+}
+
+/// The attribute of `primitive` whose accessor has a type that glTF 2.0 (§3.7.2.1) forbids for
+/// it, if any: POSITION must be float VEC3, indices unsigned-integer SCALAR, COLOR_0 VEC3 or
+/// VEC4 of float or normalised unsigned bytes or shorts.
+fn bad_accessor_type(primitive: &gltf::Primitive) -> Option<&'static str> {
+    use gltf::accessor::{DataType as D, Dimensions as T};
+    let bad = |a: Option<gltf::Accessor>, ok: &dyn Fn(D, T) -> bool| {
+        a.is_some_and(|a| !ok(a.data_type(), a.dimensions()))
+    };
+    if bad(primitive.get(&gltf::Semantic::Positions), &|d, t| {
+        matches!((d, t), (D::F32, T::Vec3))
+    }) {
+        Some("POSITION")
+    } else if bad(primitive.indices(), &|d, t| {
+        matches!((d, t), (D::U8 | D::U16 | D::U32, T::Scalar))
+    }) {
+        Some("indices")
+    } else if bad(primitive.get(&gltf::Semantic::Colors(0)), &|d, t| {
+        matches!((d, t), (D::U8 | D::U16 | D::F32, T::Vec3 | T::Vec4))
+    }) {
+        Some("COLOR_0")
+    } else {
+        None
+    }
 }
 
 /// The bytes of every buffer, in order: the GLB binary chunk, a `data:` URI or a file.
@@ -535,6 +591,17 @@ mod tests {
                 "{bad:?}"
             );
         }
+        // A POSITION accessor index past the accessors (found by the `gltf` fuzz target).
+        let missing = sample().replace("\"POSITION\": 0", "\"POSITION\": 7");
+        let e = parse_gltf(missing.as_bytes(), Path::new("x.gltf")).expect_err("bad accessor");
+        assert!(e.to_string().contains("POSITION accessor 7"), "{e}");
+        // Float indices (found by the `gltf` fuzz target: `unreachable!` in the reader).
+        let float_indices = sample().replace(
+            "\"attributes\": {\"POSITION\": 0}",
+            "\"attributes\": {\"POSITION\": 0}, \"indices\": 0",
+        );
+        let e = parse_gltf(float_indices.as_bytes(), Path::new("x.gltf")).expect_err("indices");
+        assert!(e.to_string().contains("indices accessor"), "{e}");
         let short = sample().replace("\"byteLength\": 36, \"uri\"", "\"byteLength\": 48, \"uri\"");
         let e = parse_gltf(short.as_bytes(), Path::new("x.gltf")).expect_err("short buffer");
         assert!(e.to_string().contains("x.gltf"), "{e}");
