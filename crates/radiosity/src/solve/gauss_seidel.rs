@@ -11,11 +11,10 @@
 //! not accumulate. A sweep is sequential, hence deterministic.
 
 use super::checkpoint::Session;
-use super::jacobi::{gather, iterate};
+use super::jacobi::{gather, sweeps};
 use super::matrix::Matrix;
 use super::{l1, Run, Settings, System};
 use crate::progress::Progress;
-use crate::Rgb;
 
 /// Sweeps until the residual falls below the tolerance, the iteration limit is reached or the
 /// session is stopped (from B = E, or from the session's checkpoint).
@@ -26,21 +25,10 @@ pub(super) fn run(
     session: &mut Session,
     progress: &dyn Progress,
 ) -> Run {
-    let (mut b, mut iterations, mut residual) = match session.resume() {
-        Some(it) => (it.radiosity, it.iterations, it.residual),
-        None => (system.emission.clone(), 0, 1.0),
-    };
-    let mut means = vec![Rgb::ZERO; system.source_area.len()];
-    let (start, mut history, mut interrupted) = (std::time::Instant::now(), Vec::new(), false);
-    while iterations < settings.max_iterations && residual >= settings.tolerance {
-        if session.stopped() {
-            interrupted = true;
-            break;
-        }
-        system.source_means(&b, &mut means);
+    sweeps(system, settings, session, progress, |b, means| {
         let mut moved = 0.0;
         for (e, value) in b.iter_mut().enumerate() {
-            let new = system.emission[e] + system.reflectance[e] * gather(matrix.row(e), &means);
+            let new = system.emission[e] + system.reflectance[e] * gather(matrix.row(e), means);
             let delta = new - *value;
             *value = new;
             moved += system.area[e] * l1(delta);
@@ -49,20 +37,6 @@ pub(super) fn run(
                 means[s] += delta * (system.area[e] / system.source_area[s]);
             }
         }
-        residual = moved / system.emitted;
-        iterations += 1;
-        history.push((iterations, start.elapsed().as_secs_f64(), residual));
-        progress.advance(1);
-        session.after_iteration(false, || iterate(&b, iterations, residual));
-    }
-    if interrupted {
-        session.after_iteration(true, || iterate(&b, iterations, residual));
-    }
-    Run {
-        radiosity: b,
-        iterations,
-        residual,
-        history,
-        interrupted,
-    }
+        moved / system.emitted
+    })
 }

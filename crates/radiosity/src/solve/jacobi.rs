@@ -26,11 +26,32 @@ pub(super) fn run(
     session: &mut Session,
     progress: &dyn Progress,
 ) -> Run {
+    let mut next = vec![Rgb::ZERO; system.emission.len()];
+    sweeps(system, settings, session, progress, |b, means| {
+        next.par_iter_mut().enumerate().for_each(|(e, out)| {
+            *out = system.emission[e] + system.reflectance[e] * gather(matrix.row(e), means);
+        });
+        let residual = system.residual(b, &next);
+        std::mem::swap(b, &mut next);
+        residual
+    })
+}
+
+/// The loop both gathering solvers share: start from B = E or the session's checkpoint, and
+/// until converged, stopped or out of iterations, recompute the source means exactly and run
+/// `sweep(B, means)`, which updates B and returns the sweep's residual; record the history and
+/// report to the session and `progress` after each sweep.
+pub(super) fn sweeps(
+    system: &System,
+    settings: &Settings,
+    session: &mut Session,
+    progress: &dyn Progress,
+    mut sweep: impl FnMut(&mut Vec<Rgb>, &mut [Rgb]) -> f64,
+) -> Run {
     let (mut b, mut iterations, mut residual) = match session.resume() {
         Some(it) => (it.radiosity, it.iterations, it.residual),
         None => (system.emission.clone(), 0, 1.0),
     };
-    let mut next = b.clone();
     let mut means = vec![Rgb::ZERO; system.source_area.len()];
     let (start, mut history, mut interrupted) = (std::time::Instant::now(), Vec::new(), false);
     while iterations < settings.max_iterations && residual >= settings.tolerance {
@@ -39,11 +60,7 @@ pub(super) fn run(
             break;
         }
         system.source_means(&b, &mut means);
-        next.par_iter_mut().enumerate().for_each(|(e, out)| {
-            *out = system.emission[e] + system.reflectance[e] * gather(matrix.row(e), &means);
-        });
-        residual = system.residual(&b, &next);
-        std::mem::swap(&mut b, &mut next);
+        residual = sweep(&mut b, &mut means);
         iterations += 1;
         history.push((iterations, start.elapsed().as_secs_f64(), residual));
         progress.advance(1);
