@@ -273,3 +273,28 @@ fn khronos_validator_reports_no_errors() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_malformed_gltf_is_reported_at_its_line_and_column() {
+    let dir = temp_dir("malformed");
+    // The comma after the `scenes` line is missing: `serde_json` stops at line 4, column 3.
+    let text = "{\n  \"asset\": {\"version\": \"2.0\"},\n  \"scenes\": [{\"nodes\": [0]}]\n  \"nodes\": [{\"mesh\": 0}]\n}\n";
+    let path = dir.join("broken.gltf");
+    std::fs::write(&path, text).expect("write");
+    let e = read_gltf(&path).expect_err("syntax error");
+    assert_eq!(e.line_col, Some((4, 3)), "{e}");
+    assert_eq!(e.file.as_deref(), Some(path.as_path()));
+    // As a whole scene, and as a scene's mesh object (the inner location is in the message).
+    let e = Scene::load(&path).expect_err("scene");
+    assert_eq!(e.line_col, Some((4, 3)), "{e}");
+    let toml = "[materials.white]\nreflectance = [0.5, 0.5, 0.5]\nemission = [1.0, 1.0, 1.0]\n\n\
+                [[objects]]\nname = \"m\"\nshape = \"mesh\"\npath = \"broken.gltf\"\n\
+                material = \"white\"\n";
+    let e = Scene::from_toml_str(toml, &dir.join("scene.toml")).expect_err("mesh object");
+    assert!(
+        e.to_string()
+            .contains("broken.gltf:4:3: invalid glTF: expected `,` or `}`"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

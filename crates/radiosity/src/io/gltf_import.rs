@@ -45,7 +45,7 @@ use glam::{Mat4, Vec3};
 use gltf::mesh::Mode;
 
 use super::obj::{ObjFace, ObjFile};
-use crate::scene::{Camera, Material, SceneError};
+use crate::scene::{Camera, Loc, Material, SceneError};
 use crate::Rgb;
 
 /// The largest reflectance an imported material keeps (glTF's default base colour is 1).
@@ -66,8 +66,10 @@ pub struct GltfFile {
 /// Reads a `.gltf` or `.glb` file.
 ///
 /// # Errors
-/// The file or one of its buffers cannot be read, or it is not valid glTF 2.0; the error names
-/// the file.
+/// The file or one of its buffers cannot be read, or it is not valid glTF 2.0. The error names
+/// the file, and where the problem is: `file:LINE:COL` for a JSON syntax or type error in a
+/// `.gltf` (columns count characters), `JSON chunk line L col C` in the message for one in a
+/// `.glb`, and the JSON path as the key (`accessors[0].bufferView`) for a validation error.
 pub fn read_gltf(path: &Path) -> Result<GltfFile, SceneError> {
     let bytes =
         std::fs::read(path).map_err(|e| SceneError::in_file(path, format!("cannot read: {e}")))?;
@@ -92,24 +94,25 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
             "invalid glTF: the GLB header declares {length} bytes, fewer than the header's 12"
         )));
     }
-    let invalid = |e: gltf::Error| err(format!("invalid glTF: {e}"));
+    let invalid = |e: gltf::Error| gltf_error(e, bytes, file);
     let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(invalid)?;
     // Validation in `gltf-json` 1.4 indexes the accessors with a primitive's POSITION index
     // unchecked (a panic), so that index is checked before the document is validated.
     let json = gltf.document.as_json();
     let positions = gltf::json::validation::Checked::Valid(gltf::json::mesh::Semantic::Positions);
     for (m, mesh) in json.meshes.iter().enumerate() {
-        let position = |p: &gltf::json::mesh::Primitive| p.attributes.get(&positions).copied();
-        if let Some(a) = mesh
-            .primitives
-            .iter()
-            .filter_map(position)
-            .find(|a| a.value() >= json.accessors.len())
-        {
-            return Err(err(format!(
-                "invalid glTF: mesh {m}: POSITION accessor {} does not exist",
-                a.value()
-            )));
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some(a) = primitive
+                .attributes
+                .get(&positions)
+                .filter(|a| a.value() >= json.accessors.len())
+            {
+                return Err(err(format!(
+                    "invalid glTF: POSITION accessor {} does not exist",
+                    a.value()
+                ))
+                .with_key(format!("meshes[{m}].primitives[{p}].attributes.POSITION")));
+            }
         }
     }
     let gltf = gltf::Gltf {
@@ -216,13 +219,25 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
             };
             let mirrors = world.determinant() < 0.0;
             for primitive in mesh.primitives() {
+                let key = |what: &str| {
+                    let what = if what == "indices" {
+                        what.to_string()
+                    } else {
+                        format!("attributes.{what}")
+                    };
+                    format!(
+                        "meshes[{}].primitives[{}].{what}",
+                        mesh.index(),
+                        primitive.index()
+                    )
+                };
                 // The `gltf` reader panics (`unreachable!`) on accessor types that the glTF
                 // specification forbids for these attributes and that its validation lets by.
                 if let Some(what) = bad_accessor_type(&primitive) {
                     return Err(err(format!(
-                        "mesh `{}`: the {what} accessor has a type glTF does not allow",
-                        mesh.name().unwrap_or("")
-                    )));
+                        "invalid glTF: the {what} accessor has a type glTF does not allow"
+                    ))
+                    .with_key(key(what)));
                 }
                 let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
                 let Some(positions) = reader.read_positions() else {
@@ -246,11 +261,11 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
                     Some(i) => i.into_u32().collect(),
                     None => (0..count as u32).collect(),
                 };
-                if indices.iter().any(|&i| i as usize >= count) {
+                if let Some(i) = indices.iter().find(|&&i| i as usize >= count) {
                     return Err(err(format!(
-                        "mesh `{}`: an index is out of range",
-                        mesh.name().unwrap_or("")
-                    )));
+                        "index {i} is out of range: the primitive has {count} vertices"
+                    ))
+                    .with_key(key("indices")));
                 }
                 let material = primitive.material().index().unwrap_or_else(|| {
                     used_default = true;
@@ -294,6 +309,65 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
         ));
     }
     Ok(out)
+}
+
+/// A `gltf` error as a [`SceneError`]: a JSON syntax or type error at its line and column (of
+/// the file for `.gltf`; of the JSON chunk, in the message, for `.glb`), a validation error
+/// under the JSON path of its first problem (`accessors[0].bufferView`).
+fn gltf_error(e: gltf::Error, bytes: &[u8], file: &Path) -> SceneError {
+    match e {
+        gltf::Error::Deserialize(e) if e.line() > 0 => {
+            // `serde_json` appends the position to its message and counts columns in bytes.
+            let text = e.to_string();
+            let suffix = format!(" at line {} column {}", e.line(), e.column());
+            let cause = text.strip_suffix(&suffix).unwrap_or(&text);
+            if bytes.starts_with(b"glTF") {
+                let col = gltf::Glb::from_slice(bytes).map_or(e.column(), |glb| {
+                    char_column(&glb.json, e.line(), e.column())
+                });
+                SceneError::in_file(
+                    file,
+                    format!(
+                        "invalid glTF: JSON chunk line {} col {col}: {cause}",
+                        e.line()
+                    ),
+                )
+            } else {
+                let loc = Loc {
+                    file: file.to_path_buf(),
+                    line: e.line(),
+                    col: char_column(bytes, e.line(), e.column()),
+                };
+                SceneError::at(loc, format!("invalid glTF: {cause}"))
+            }
+        }
+        gltf::Error::Validation(problems) if !problems.is_empty() => {
+            let (path, problem) = &problems[0];
+            let more = match problems.len() - 1 {
+                0 => String::new(),
+                n => format!(" (and {n} more problem(s))"),
+            };
+            let problem = problem.to_string().to_lowercase();
+            SceneError::in_file(file, format!("invalid glTF: {problem}{more}"))
+                .with_key(path.as_str().replace("[\"", ".").replace("\"]", ""))
+        }
+        e => SceneError::in_file(file, format!("invalid glTF: {e}")),
+    }
+}
+
+/// The 1-based character column of the character that ends at byte column `byte_col` (1-based,
+/// as `serde_json` counts) of 1-based line `line` of `text` (at least 1).
+fn char_column(text: &[u8], line: usize, byte_col: usize) -> usize {
+    let line = text
+        .split(|&b| b == b'\n')
+        .nth(line.saturating_sub(1))
+        .unwrap_or_default();
+    // UTF-8 continuation bytes are 0b10xx_xxxx; every other byte starts a character.
+    let starts = line[..byte_col.min(line.len())]
+        .iter()
+        .filter(|&&b| b & 0xC0 != 0x80)
+        .count();
+    starts.max(1)
 }
 
 /// A glTF material as a radiosity material; its name is pushed to `clamped` when its base
@@ -595,6 +669,10 @@ mod tests {
         let missing = sample().replace("\"POSITION\": 0", "\"POSITION\": 7");
         let e = parse_gltf(missing.as_bytes(), Path::new("x.gltf")).expect_err("bad accessor");
         assert!(e.to_string().contains("POSITION accessor 7"), "{e}");
+        assert_eq!(
+            e.key.as_deref(),
+            Some("meshes[0].primitives[0].attributes.POSITION")
+        );
         // Float indices (found by the `gltf` fuzz target: `unreachable!` in the reader).
         let float_indices = sample().replace(
             "\"attributes\": {\"POSITION\": 0}",
@@ -602,8 +680,89 @@ mod tests {
         );
         let e = parse_gltf(float_indices.as_bytes(), Path::new("x.gltf")).expect_err("indices");
         assert!(e.to_string().contains("indices accessor"), "{e}");
+        assert_eq!(e.key.as_deref(), Some("meshes[0].primitives[0].indices"));
         let short = sample().replace("\"byteLength\": 36, \"uri\"", "\"byteLength\": 48, \"uri\"");
         let e = parse_gltf(short.as_bytes(), Path::new("x.gltf")).expect_err("short buffer");
         assert!(e.to_string().contains("x.gltf"), "{e}");
+    }
+
+    #[test]
+    fn json_errors_name_the_line_and_column_in_characters() {
+        // The comma after `"2.0"` is missing: `serde_json` stops at the `"` of `"scene"`,
+        // line 3, character 3.
+        let text = "{\n  \"asset\": {\"version\": \"2.0\"}\n  \"scene\": 0\n}";
+        let e = parse_gltf(text.as_bytes(), Path::new("s.gltf")).expect_err("syntax");
+        assert_eq!(
+            e.to_string(),
+            "s.gltf:3:3: invalid glTF: expected `,` or `}`"
+        );
+        // Columns count characters: `é` is two bytes but one column, so the `5` where a key
+        // should be is character 22 of line 1 (byte 23).
+        let text = "{\"asset\": {\"x\": \"é\", 5}}";
+        let e = parse_gltf(text.as_bytes(), Path::new("u.gltf")).expect_err("key");
+        assert_eq!(e.loc().map(|l| (l.line, l.col)), Some((1, 22)), "{e}");
+        assert!(e.message.contains("key must be a string"), "{e}");
+        // A type error inside a valid JSON text is located too.
+        let text = sample().replace("\"count\": 3", "\"count\": \"three\"");
+        let line = 1 + text[..text.find("\"three\"").unwrap()]
+            .matches('\n')
+            .count();
+        let e = parse_gltf(text.as_bytes(), Path::new("t.gltf")).expect_err("type");
+        assert_eq!(e.line_col.map(|(l, _)| l), Some(line), "{e}");
+        assert!(
+            e.message.starts_with("invalid glTF: invalid type: string"),
+            "{e}"
+        );
+        // Empty input: the end of line 1.
+        let e = parse_gltf(b"", Path::new("e.gltf")).expect_err("empty");
+        assert_eq!(e.line_col, Some((1, 1)), "{e}");
+    }
+
+    #[test]
+    fn glb_json_errors_are_located_in_the_json_chunk() {
+        let json = b"{\"asset\": {\"version\": \"2.0\"},\n \"nodes\": [}";
+        let mut glb = b"glTF".to_vec();
+        glb.extend_from_slice(&2u32.to_le_bytes());
+        glb.extend_from_slice(&(20 + json.len() as u32).to_le_bytes());
+        glb.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        glb.extend_from_slice(b"JSON");
+        glb.extend_from_slice(json);
+        let e = parse_gltf(&glb, Path::new("b.glb")).expect_err("syntax");
+        assert_eq!(
+            e.to_string(),
+            "b.glb: invalid glTF: JSON chunk line 2 col 12: expected value"
+        );
+    }
+
+    #[test]
+    fn validation_errors_name_the_json_path() {
+        let bad_view = sample().replace("\"bufferView\": 0", "\"bufferView\": 3");
+        let e = parse_gltf(bad_view.as_bytes(), Path::new("v.gltf")).expect_err("index");
+        assert_eq!(
+            e.to_string(),
+            "v.gltf: `accessors[0].bufferView`: invalid glTF: index out of bounds"
+        );
+        // Attribute keys are written as fields, as in the scene files' key paths.
+        let bad_colour = sample().replace(
+            "\"attributes\": {\"POSITION\": 0}",
+            "\"attributes\": {\"POSITION\": 0, \"COLOR_0\": 9}",
+        );
+        let e = parse_gltf(bad_colour.as_bytes(), Path::new("c.gltf")).expect_err("colour");
+        assert_eq!(
+            e.key.as_deref(),
+            Some("meshes[0].primitives[0].attributes.COLOR_0"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn char_columns_count_characters_not_bytes() {
+        let text = "ab\nxé€z".as_bytes();
+        // Bytes of line 2: x(1) é(2,3) €(4,5,6) z(7).
+        assert_eq!(
+            [1, 3, 6, 7, 99].map(|b| char_column(text, 2, b)),
+            [1, 2, 3, 4, 4]
+        );
+        assert_eq!((char_column(text, 1, 0), char_column(text, 5, 3)), (1, 1));
     }
 }

@@ -280,8 +280,11 @@ impl Mesh {
             let Some(c) = node.children else { continue };
             let children = &self.nodes[c as usize..c as usize + 4];
             let area: f64 = children.iter().map(|k| k.face.area()).sum();
-            if (area - node.face.area()).abs() > 1e-4 * node.face.area() {
-                return Err(format!("children of node {i} do not cover it"));
+            let (parent, tolerance) = (node.face.area(), split_area_tolerance(&node.face));
+            if (area - parent).abs() > tolerance {
+                return Err(format!(
+                    "children of node {i} do not cover it (areas {area:e} vs {parent:e})"
+                ));
             }
             if children
                 .iter()
@@ -309,6 +312,27 @@ impl Mesh {
         }
         Ok(())
     }
+}
+
+/// How far the summed areas of `face`'s four children may stray from its own area.
+///
+/// Exactly, the children partition the face. In f32 each midpoint `(a + b)·0.5` is off by at
+/// most ε/2·M per coordinate (ε = `f32::EPSILON`, M the largest corner coordinate), a quad's
+/// centre by at most 9/8·ε·M, and moving a corner by δ changes a child's area by at most
+/// δ·D/2 (D the face's diameter). Over the 9 moved corners of a triangle's children, or the 8
+/// midpoints and 4 centres of a quad's, that is below 8·ε·M·D; twice that is allowed, plus
+/// 1e-4 relative for quads that are planar only to the scene's tolerance. For a sliver far from
+/// the origin the rounding term may exceed the area itself: its children are then as good as
+/// f32 can place them, and this check cannot tell them from a wrong split.
+fn split_area_tolerance(face: &Face) -> f64 {
+    let magnitude = face
+        .corners()
+        .iter()
+        .map(|c| c.abs().max_element())
+        .fold(0.0f32, f32::max);
+    let rounding =
+        16.0 * f64::from(f32::EPSILON) * f64::from(magnitude) * f64::from(face.diameter());
+    1e-4 * face.area() + rounding
 }
 
 /// Levels of uniform subdivision that bring a face of area `area` to at most `target`.
