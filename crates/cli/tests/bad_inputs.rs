@@ -10,19 +10,15 @@
 
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+mod common;
+
+use common::{radiosity, scratch};
 
 /// The corpus directory.
 fn corpus() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/bad")
-}
-
-/// A fresh empty directory for one case.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("radiosity-bad-{name}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).expect("create scratch dir");
-    dir
 }
 
 /// `radiosity render SCENE` with small outputs, in `dir`.
@@ -44,7 +40,7 @@ fn render(dir: &Path, scene: &Path, quiet: bool) -> Output {
     if quiet {
         args.push("--quiet".into());
     }
-    Command::new(env!("CARGO_BIN_EXE_radiosity"))
+    radiosity()
         .args(&args)
         .current_dir(dir)
         .output()

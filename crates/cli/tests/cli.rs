@@ -2,24 +2,20 @@
 
 use std::collections::BTreeSet;
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Output;
+
+mod common;
+
+use common::{radiosity, scratch};
 
 /// Runs the binary with `args` in `dir`.
 fn run(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_radiosity"))
+    radiosity()
         .args(args)
         .current_dir(dir)
         .output()
         .expect("the binary runs")
-}
-
-/// A fresh empty directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("radiosity-cli-{name}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).expect("create scratch dir");
-    dir
 }
 
 /// File names in `dir`, sorted.
@@ -34,6 +30,11 @@ fn files(dir: &Path) -> Vec<String> {
 
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// The JSON document in file `path`.
+fn read_json(path: &Path) -> serde_json::Value {
+    serde_json::from_slice(&fs::read(path).expect("stats")).expect("json")
 }
 
 /// The keys of a JSON object, sorted.
@@ -141,8 +142,7 @@ fn render_writes_png_and_stats_with_the_contract_keys() {
     // IHDR: width and height, big-endian, at bytes 16..24.
     assert_eq!(&png[16..24], &[0, 0, 0, 64, 0, 0, 0, 64]);
 
-    let stats: serde_json::Value =
-        serde_json::from_slice(&fs::read(dir.join("s.json")).expect("stats")).expect("json");
+    let stats = read_json(&dir.join("s.json"));
     let top = [
         "patches",
         "elements",
@@ -188,19 +188,11 @@ fn render_writes_png_and_stats_with_the_contract_keys() {
 fn solve_exports_ply_with_object_names() {
     let dir = scratch("solve");
     fs::write(dir.join("room.toml"), scene_text("")).expect("write scene");
-    let out = run(
-        &dir,
-        &[
-            "solve",
-            "room.toml",
-            "--elements",
-            "96",
-            "--export",
-            "lit.ply",
-            "--stats",
-            "s.json",
-        ],
-    );
+    let solve = |export: &[&str]| {
+        let head = ["solve", "room.toml", "--elements", "96", "--export"];
+        run(&dir, &[&head[..], export].concat())
+    };
+    let out = solve(&["lit.ply", "--stats", "s.json"]);
     assert!(out.status.success(), "{}", stderr(&out));
     assert_eq!(files(&dir), ["lit.ply", "room.toml", "s.json"]);
     let ply = fs::read(dir.join("lit.ply")).expect("ply");
@@ -223,17 +215,7 @@ fn solve_exports_ply_with_object_names() {
     assert_eq!(body, vertices * 27 + faces * 17);
 
     // The same mesh as binary glTF: header magic, version 2, and the total length.
-    let out = run(
-        &dir,
-        &[
-            "solve",
-            "room.toml",
-            "--elements",
-            "96",
-            "--export",
-            "lit.glb",
-        ],
-    );
+    let out = solve(&["lit.glb"]);
     assert!(out.status.success(), "{}", stderr(&out));
     let glb = fs::read(dir.join("lit.glb")).expect("glb");
     assert_eq!(&glb[..8], b"glTF\x02\0\0\0");
@@ -403,8 +385,7 @@ fn results_do_not_depend_on_the_thread_count() {
             ],
         );
         assert!(out.status.success(), "{}", stderr(&out));
-        let stats: serde_json::Value =
-            serde_json::from_slice(&fs::read(dir.join(&json)).expect("stats")).expect("json");
+        let stats = read_json(&dir.join(&json));
         objects.push(serde_json::to_string(&stats["objects"]).expect("serialize"));
         images.push(fs::read(dir.join(&pfm)).expect("pfm"));
     }

@@ -2,20 +2,17 @@
 //! 1, 2 and 8 threads gives byte-identical statistics (objects, energy, solver) and images.
 
 use std::fs;
-use std::path::PathBuf;
-use std::process::Command;
+
+mod common;
+
+use common::{radiosity, scratch};
 
 /// Renders the built-in Cornell box with `threads` threads; returns the stats JSON and the
 /// `.pfm` bytes.
 fn run(threads: u32) -> (serde_json::Value, Vec<u8>) {
-    let dir: PathBuf = std::env::temp_dir().join(format!(
-        "radiosity-determinism-{threads}-{}",
-        std::process::id()
-    ));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
+    let dir = scratch(&format!("determinism-{threads}"));
     let threads = threads.to_string();
-    let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
+    let out = radiosity()
         .args([
             "render",
             "cornell",

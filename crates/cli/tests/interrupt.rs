@@ -1,20 +1,12 @@
 //! Ctrl-C during a solve, checkpoints and resuming, through the command line.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::Duration;
 
-fn radiosity() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_radiosity"))
-}
+mod common;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("radiosity-interrupt-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
-}
+use common::{radiosity, scratch};
 
 fn stats_iterations(path: &Path) -> (String, u64) {
     let json: serde_json::Value =

@@ -15,6 +15,21 @@ fn sphere(r: f64) -> Sdf {
     }
 }
 
+/// The unit cube about the origin drilled through along y by a cylinder of radius 0.25 (genus 1).
+fn drilled_cube() -> Sdf {
+    Sdf::Difference(
+        Box::new(Sdf::Box {
+            min: DVec3::splat(-0.5),
+            max: DVec3::splat(0.5),
+        }),
+        Box::new(Sdf::Cylinder {
+            center: DVec3::ZERO,
+            radius: 0.25,
+            half_height: 1.0,
+        }),
+    )
+}
+
 #[test]
 fn sphere_is_watertight_with_analytic_area_and_volume() {
     let s = sphere(1.0);
@@ -80,17 +95,7 @@ fn blends_and_booleans_are_closed_and_outward() {
         ],
         threshold: 0.3,
     };
-    let drilled = Sdf::Difference(
-        Box::new(Sdf::Box {
-            min: DVec3::splat(-0.5),
-            max: DVec3::splat(0.5),
-        }),
-        Box::new(Sdf::Cylinder {
-            center: DVec3::ZERO,
-            radius: 0.25,
-            half_height: 1.0,
-        }),
-    );
+    let drilled = drilled_cube();
     let smooth = Sdf::SmoothUnion {
         a: Box::new(Sdf::Sphere {
             center: DVec3::ZERO,
@@ -119,17 +124,7 @@ fn blends_and_booleans_are_closed_and_outward() {
     }
     // A drilled unit cube: volume 1 − π r² (r = 0.25); the cylinder is a polygon inscribed in
     // the circle, so the mesh is slightly fuller.
-    let drilled = Sdf::Difference(
-        Box::new(Sdf::Box {
-            min: DVec3::splat(-0.5),
-            max: DVec3::splat(0.5),
-        }),
-        Box::new(Sdf::Cylinder {
-            center: DVec3::ZERO,
-            radius: 0.25,
-            half_height: 1.0,
-        }),
-    );
+    let drilled = drilled_cube();
     let mesh = MarchingCubes::around(&drilled, 60)
         .unwrap()
         .polygonize(&drilled);

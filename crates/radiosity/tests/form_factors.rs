@@ -5,9 +5,13 @@ use glam::DVec3;
 use radiosity::formfactor::analytic::{
     parallel_rectangles, perpendicular_rectangles, point_to_polygon,
 };
-use radiosity::formfactor::{self, FormFactors, Geometry, Method, Settings};
+use radiosity::formfactor::{self, FormFactors, Method, Settings};
 use radiosity::mesh::Subdivision;
 use radiosity::testing::{self, Prepared};
+
+mod common;
+
+use common::patch_to_patch;
 
 fn analytic(quadrature: u32) -> Box<dyn FormFactors> {
     formfactor::build(&Settings {
@@ -25,22 +29,6 @@ fn raycast(quadrature: u32, rays: u32) -> Box<dyn FormFactors> {
         seed: 7,
         ..Settings::default()
     })
-}
-
-/// F from patch `from` (all its elements, area-weighted) to patch `to` (all its sources),
-/// through columns.
-fn patch_to_patch(g: &Geometry, ff: &dyn FormFactors, from: u32, to: u32) -> f64 {
-    let mut column = vec![0.0; g.mesh.element_count()];
-    let mut sum = 0.0;
-    for s in (0..g.sources.len()).filter(|&s| g.source_patch(s) == to) {
-        ff.column(g, s, &mut column);
-        for (e, &f) in column.iter().enumerate() {
-            if g.mesh.element(e).patch == from {
-                sum += g.mesh.element(e).face.area() * f64::from(f);
-            }
-        }
-    }
-    sum / g.mesh.patches[from as usize].area
 }
 
 #[test]

@@ -13,6 +13,11 @@ use radiosity::stats::Timings;
 use radiosity::testing::{self, Prepared};
 use radiosity::Scene;
 
+mod common;
+
+// F through columns (hemicubes at the sources, then reciprocity).
+use common::patch_to_patch as by_columns;
+
 const PARALLEL: f64 = 0.199_824_9;
 const PERPENDICULAR: f64 = 0.200_043_8;
 const POINT: f64 = 0.239_456_5;
@@ -32,21 +37,6 @@ fn by_rows(g: &Geometry, ff: &dyn FormFactors, from: u32, to: u32) -> f64 {
             .map(|s| f64::from(row[s]))
             .sum();
         sum += g.mesh.element(e).face.area() * f;
-    }
-    sum / g.mesh.patches[from as usize].area
-}
-
-/// The same through columns (hemicubes at the sources, then reciprocity).
-fn by_columns(g: &Geometry, ff: &dyn FormFactors, from: u32, to: u32) -> f64 {
-    let mut column = vec![0.0; g.mesh.element_count()];
-    let mut sum = 0.0;
-    for s in (0..g.sources.len()).filter(|&s| g.source_patch(s) == to) {
-        ff.column(g, s, &mut column);
-        for (e, &f) in column.iter().enumerate() {
-            if g.mesh.element(e).patch == from {
-                sum += g.mesh.element(e).face.area() * f64::from(f);
-            }
-        }
     }
     sum / g.mesh.patches[from as usize].area
 }

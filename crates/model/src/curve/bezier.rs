@@ -130,6 +130,39 @@ pub fn bernstein(n: usize, i: usize, t: f64) -> f64 {
     c * t.powi(i as i32) * (1.0 - t).powi((n - i) as i32)
 }
 
+/// Whether every weight of a rational curve or surface is finite and positive.
+pub(crate) fn weights_valid(weights: &[f64]) -> bool {
+    weights.iter().all(|w| w.is_finite() && *w > 0.0)
+}
+
+/// The homogeneous points (w P, w) of `points` with `weights` (paired in order).
+pub(crate) fn homogenize(points: &[DVec3], weights: &[f64]) -> Vec<DVec4> {
+    points
+        .iter()
+        .zip(weights)
+        .map(|(p, &w)| (*p * w).extend(w))
+        .collect()
+}
+
+/// The points P and weights w of homogeneous points (w P, w).
+pub(crate) fn dehomogenize(homogeneous: &[DVec4]) -> (Vec<DVec3>, Vec<f64>) {
+    (
+        homogeneous.iter().map(|&h| project(h)).collect(),
+        homogeneous.iter().map(|h| h.w).collect(),
+    )
+}
+
+/// The central projection A/w of a homogeneous point (A, w).
+pub(crate) fn project(h: DVec4) -> DVec3 {
+    h.truncate() / h.w
+}
+
+/// The derivative of the projection C = A/w from the homogeneous point `h` = (A, w) and its
+/// derivative `d` = (A′, w′): C′ = (A′ − w′ C)/w (the quotient rule).
+pub(crate) fn project_derivative(h: DVec4, d: DVec4) -> DVec3 {
+    (d.truncate() - d.w * project(h)) / h.w
+}
+
 /// A rational Bézier curve: control points with positive weights.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RationalBezier {
@@ -142,15 +175,9 @@ impl RationalBezier {
     /// `None`.
     #[must_use]
     pub fn new(points: &[DVec3], weights: &[f64]) -> Option<Self> {
-        let ok = !points.is_empty()
-            && points.len() == weights.len()
-            && weights.iter().all(|w| w.is_finite() && *w > 0.0);
+        let ok = !points.is_empty() && points.len() == weights.len() && weights_valid(weights);
         ok.then(|| Self {
-            homogeneous: points
-                .iter()
-                .zip(weights)
-                .map(|(p, &w)| (*p * w).extend(w))
-                .collect(),
+            homogeneous: homogenize(points, weights),
         })
     }
 
@@ -185,16 +212,13 @@ impl RationalBezier {
     /// The control points P_i.
     #[must_use]
     pub fn points(&self) -> Vec<DVec3> {
-        self.homogeneous
-            .iter()
-            .map(|h| h.truncate() / h.w)
-            .collect()
+        dehomogenize(&self.homogeneous).0
     }
 
     /// The weights w_i.
     #[must_use]
     pub fn weights(&self) -> Vec<f64> {
-        self.homogeneous.iter().map(|h| h.w).collect()
+        dehomogenize(&self.homogeneous).1
     }
 
     /// de Casteljau on the homogeneous points: (Σ B_i w_i P_i, Σ B_i w_i) and its derivative.
@@ -217,15 +241,12 @@ impl RationalBezier {
 
 impl Curve for RationalBezier {
     fn point(&self, t: f64) -> DVec3 {
-        let (h, _) = self.homogeneous_at(t);
-        h.truncate() / h.w
+        project(self.homogeneous_at(t).0)
     }
 
     fn derivative(&self, t: f64) -> DVec3 {
-        // C = A/w  ⇒  C′ = (A′ − w′ C)/w.
         let (h, d) = self.homogeneous_at(t);
-        let c = h.truncate() / h.w;
-        (d.truncate() - d.w * c) / h.w
+        project_derivative(h, d)
     }
 
     fn domain(&self) -> (f64, f64) {

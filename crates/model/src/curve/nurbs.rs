@@ -9,6 +9,7 @@
 
 use glam::{DVec3, DVec4};
 
+use super::bezier::{dehomogenize, homogenize, project, project_derivative, weights_valid};
 use super::bspline::{self, clamped_knots, knots_valid};
 use super::{Curve, RationalBezier};
 
@@ -26,17 +27,13 @@ impl Nurbs {
     #[must_use]
     pub fn new(degree: usize, knots: Vec<f64>, points: &[DVec3], weights: &[f64]) -> Option<Self> {
         let ok = points.len() == weights.len()
-            && weights.iter().all(|w| w.is_finite() && *w > 0.0)
+            && weights_valid(weights)
             && points.iter().all(|p| p.is_finite())
             && knots_valid(degree, &knots, points.len());
         ok.then(|| Self {
             degree,
             knots,
-            homogeneous: points
-                .iter()
-                .zip(weights)
-                .map(|(p, &w)| (*p * w).extend(w))
-                .collect(),
+            homogeneous: homogenize(points, weights),
         })
     }
 
@@ -79,11 +76,7 @@ impl Nurbs {
         Self {
             degree: 2,
             knots,
-            homogeneous: points
-                .iter()
-                .zip(&weights)
-                .map(|(p, &w)| (*p * w).extend(w))
-                .collect(),
+            homogeneous: homogenize(&points, &weights),
         }
     }
 
@@ -103,11 +96,7 @@ impl Nurbs {
         Self {
             degree,
             knots,
-            homogeneous: points
-                .iter()
-                .zip(arc.weights())
-                .map(|(p, w)| (*p * w).extend(w))
-                .collect(),
+            homogeneous: homogenize(&points, &arc.weights()),
         }
     }
 
@@ -132,16 +121,13 @@ impl Nurbs {
     /// The control points P_i.
     #[must_use]
     pub fn points(&self) -> Vec<DVec3> {
-        self.homogeneous
-            .iter()
-            .map(|h| h.truncate() / h.w)
-            .collect()
+        dehomogenize(&self.homogeneous).0
     }
 
     /// The weights w_i.
     #[must_use]
     pub fn weights(&self) -> Vec<f64> {
-        self.homogeneous.iter().map(|h| h.w).collect()
+        dehomogenize(&self.homogeneous).1
     }
 
     /// The same curve with knot `t` inserted (Boehm, in homogeneous space).
@@ -160,16 +146,18 @@ impl Nurbs {
 
 impl Curve for Nurbs {
     fn point(&self, t: f64) -> DVec3 {
-        let h = bspline::de_boor(self.degree, &self.knots, &self.homogeneous, t);
-        h.truncate() / h.w
+        project(bspline::de_boor(
+            self.degree,
+            &self.knots,
+            &self.homogeneous,
+            t,
+        ))
     }
 
     fn derivative(&self, t: f64) -> DVec3 {
-        // C = A/w  ⇒  C′ = (A′ − w′ C)/w.
         let h = bspline::de_boor(self.degree, &self.knots, &self.homogeneous, t);
         let d = bspline::derivative(self.degree, &self.knots, &self.homogeneous, t);
-        let c = h.truncate() / h.w;
-        (d.truncate() - d.w * c) / h.w
+        project_derivative(h, d)
     }
 
     fn domain(&self) -> (f64, f64) {

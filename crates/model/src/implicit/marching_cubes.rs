@@ -34,6 +34,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
+use super::marching_squares::square_segments;
 use super::Sdf;
 use crate::PolyMesh;
 
@@ -219,24 +220,7 @@ impl Run<'_> {
         // Contour segments on each face, from an out→in crossing to an in→out crossing.
         let mut segments: Vec<(u32, u32)> = Vec::with_capacity(12);
         for face in FACES {
-            let v = face.map(|c| values[c]);
-            let ins = face.map(|c| inside[c]);
-            let crossing: Vec<usize> = (0..4).filter(|&e| ins[e] != ins[(e + 1) % 4]).collect();
-            let joined_inside = crossing.len() == 4 && {
-                let saddle = (v[0] * v[2] - v[1] * v[3]) / (v[0] + v[2] - v[1] - v[3]);
-                saddle < 0.0
-            };
-            for &e in &crossing {
-                if ins[e] {
-                    continue; // an in→out crossing: the end of a segment
-                }
-                let end = if crossing.len() == 2 {
-                    crossing.iter().copied().find(|&k| k != e).unwrap_or(e)
-                } else if joined_inside {
-                    (e + 3) % 4
-                } else {
-                    (e + 1) % 4
-                };
+            for (e, end) in square_segments(face.map(|c| values[c])) {
                 let s = self.edge_vertex(base, face[e], face[(e + 1) % 4]);
                 let t = self.edge_vertex(base, face[end], face[(end + 1) % 4]);
                 segments.push((s, t));

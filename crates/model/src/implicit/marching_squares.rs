@@ -53,10 +53,6 @@ pub fn contours(
         for cx in 0..nx {
             let g = CORNERS.map(|(dx, dy)| (cx + dx, cy + dy));
             let v = g.map(|(x, y)| values[x + (nx + 1) * y]);
-            let ins = v.map(|x| x < 0.0);
-            let crossing: Vec<usize> = (0..4).filter(|&e| ins[e] != ins[(e + 1) % 4]).collect();
-            let joined_inside = crossing.len() == 4
-                && (v[0] * v[2] - v[1] * v[3]) / (v[0] + v[2] - v[1] - v[3]) < 0.0;
             let mut edge_point = |e: usize| {
                 let (a, b) = (g[e], g[(e + 1) % 4]);
                 let (lo, hi) = if a < b { (a, b) } else { (b, a) };
@@ -69,17 +65,7 @@ pub fn contours(
                     points.len() - 1
                 })
             };
-            for &e in &crossing {
-                if ins[e] {
-                    continue;
-                }
-                let end = if crossing.len() == 2 {
-                    crossing.iter().copied().find(|&k| k != e).unwrap_or(e)
-                } else if joined_inside {
-                    (e + 3) % 4
-                } else {
-                    (e + 1) % 4
-                };
+            for (e, end) in square_segments(v) {
                 let s = edge_point(e);
                 let t = edge_point(end);
                 next.insert(t, s);
@@ -103,6 +89,32 @@ pub fn contours(
         out.push(ring);
     }
     out
+}
+
+/// The contour segments of one square cell with corner values `v` (counter-clockwise; inside
+/// where v < 0), as pairs of edges (edge e joins corners e and e + 1 mod 4), each from an
+/// out→in crossing to an in→out crossing; a saddle is resolved by the asymptotic decider (see
+/// the module doc). Shared with the cube faces of marching cubes.
+pub(crate) fn square_segments(v: [f64; 4]) -> Vec<(usize, usize)> {
+    let ins = v.map(|x| x < 0.0);
+    let crossing: Vec<usize> = (0..4).filter(|&e| ins[e] != ins[(e + 1) % 4]).collect();
+    let joined_inside =
+        crossing.len() == 4 && (v[0] * v[2] - v[1] * v[3]) / (v[0] + v[2] - v[1] - v[3]) < 0.0;
+    crossing
+        .iter()
+        // An in→out crossing is the end of a segment, not its start.
+        .filter(|&&e| !ins[e])
+        .map(|&e| {
+            let end = if crossing.len() == 2 {
+                crossing.iter().copied().find(|&k| k != e).unwrap_or(e)
+            } else if joined_inside {
+                (e + 3) % 4
+            } else {
+                (e + 1) % 4
+            };
+            (e, end)
+        })
+        .collect()
 }
 
 /// An SVG document drawing `contours` (in field coordinates over `min..max`) as closed paths,

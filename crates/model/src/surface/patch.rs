@@ -10,6 +10,7 @@
 
 use glam::{DVec3, DVec4};
 
+use crate::curve::bezier::{dehomogenize, homogenize, project, project_derivative, weights_valid};
 use crate::curve::bspline::{self, clamped_knots, knots_valid};
 use crate::curve::Nurbs;
 
@@ -40,7 +41,7 @@ impl NurbsSurface {
         let ok = points.len() == count_u * count_v
             && weights.len() == points.len()
             && points.iter().all(|p| p.is_finite())
-            && weights.iter().all(|w| w.is_finite() && *w > 0.0)
+            && weights_valid(weights)
             && knots_valid(degree_u, &knots_u, count_u)
             && knots_valid(degree_v, &knots_v, count_v);
         ok.then(|| Self {
@@ -50,11 +51,7 @@ impl NurbsSurface {
             knots_v,
             count_u,
             count_v,
-            homogeneous: points
-                .iter()
-                .zip(weights)
-                .map(|(p, &w)| (*p * w).extend(w))
-                .collect(),
+            homogeneous: homogenize(points, weights),
         })
     }
 
@@ -143,7 +140,7 @@ impl NurbsSurface {
             homogeneous: self
                 .homogeneous
                 .iter()
-                .map(|h| (f(h.truncate() / h.w) * h.w).extend(h.w))
+                .map(|&h| (f(project(h)) * h.w).extend(h.w))
                 .collect(),
             ..self.clone()
         }
@@ -210,11 +207,12 @@ impl NurbsSurface {
         let h = bspline::de_boor(self.degree_v, &self.knots_v, &q, v);
         let hu = bspline::de_boor(self.degree_v, &self.knots_v, &qu, v);
         let hv = bspline::derivative(self.degree_v, &self.knots_v, &q, v);
-        let s = h.truncate() / h.w;
         // Quotient rule in each direction: S_x = (A_x − w_x S)/w.
-        let su = (hu.truncate() - hu.w * s) / h.w;
-        let sv = (hv.truncate() - hv.w * s) / h.w;
-        (s, su, sv)
+        (
+            project(h),
+            project_derivative(h, hu),
+            project_derivative(h, hv),
+        )
     }
 
     /// The unit normal S_u × S_v / |S_u × S_v|, or zero where the patch is degenerate (a
@@ -229,8 +227,7 @@ impl NurbsSurface {
     #[must_use]
     pub fn iso_u(&self, u: f64) -> Option<Nurbs> {
         let (q, _) = self.column_curves(u);
-        let points: Vec<DVec3> = q.iter().map(|h| h.truncate() / h.w).collect();
-        let weights: Vec<f64> = q.iter().map(|h| h.w).collect();
+        let (points, weights) = dehomogenize(&q);
         Nurbs::new(self.degree_v, self.knots_v.clone(), &points, &weights)
     }
 }

@@ -30,9 +30,6 @@ pub mod analytic;
 pub mod hemicube;
 pub mod raycast;
 
-use std::fmt;
-use std::str::FromStr;
-
 use glam::{DVec3, Vec3};
 
 use crate::accel::Bvh;
@@ -83,6 +80,55 @@ pub trait FormFactors: Sync {
     fn column(&self, g: &Geometry, source: usize, out: &mut [f32]);
 }
 
+/// Names the variants of a method enum for the command line and stats: `ALL` (every method, in
+/// the order the command line lists them), `name`, `Display` and `FromStr`, with the parse error
+/// `UnknownMethod` whose message is the given format string (`{0}` is the name). Shared by
+/// [`Method`] and [`crate::solve::Method`].
+macro_rules! method_names {
+    (
+        $method:ident,
+        $(#[$error_doc:meta])*
+        $message:literal,
+        { $($variant:ident => $name:literal),+ $(,)? }
+    ) => {
+        impl $method {
+            /// Every method, in the order the command line lists them.
+            pub const ALL: [$method; [$($name),+].len()] = [$($method::$variant),+];
+
+            /// The name used on the command line and in stats.
+            #[must_use]
+            pub fn name(self) -> &'static str {
+                match self {
+                    $($method::$variant => $name,)+
+                }
+            }
+        }
+
+        impl ::std::fmt::Display for $method {
+            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+
+        $(#[$error_doc])*
+        #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+        #[error($message)]
+        pub struct UnknownMethod(pub String);
+
+        impl ::std::str::FromStr for $method {
+            type Err = UnknownMethod;
+
+            fn from_str(s: &str) -> Result<Self, Self::Err> {
+                $method::ALL
+                    .into_iter()
+                    .find(|m| m.name() == s)
+                    .ok_or_else(|| UnknownMethod(s.to_owned()))
+            }
+        }
+    };
+}
+pub(crate) use method_names;
+
 /// The form-factor methods.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Method {
@@ -95,42 +141,16 @@ pub enum Method {
     Hemicube,
 }
 
-impl Method {
-    /// Every method, in the order the command line lists them.
-    pub const ALL: [Method; 3] = [Method::Analytic, Method::RayCast, Method::Hemicube];
-
-    /// The name used on the command line and in stats.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Analytic => "analytic",
-            Method::RayCast => "raycast",
-            Method::Hemicube => "hemicube",
-        }
+method_names!(
+    Method,
+    /// An unknown method name.
+    "unknown form-factor method `{0}` (choose analytic, raycast or hemicube)",
+    {
+        Analytic => "analytic",
+        RayCast => "raycast",
+        Hemicube => "hemicube",
     }
-}
-
-impl fmt::Display for Method {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-/// An unknown method name.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown form-factor method `{0}` (choose analytic, raycast or hemicube)")]
-pub struct UnknownMethod(pub String);
-
-impl FromStr for Method {
-    type Err = UnknownMethod;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Method::ALL
-            .into_iter()
-            .find(|m| m.name() == s)
-            .ok_or_else(|| UnknownMethod(s.to_owned()))
-    }
-}
+);
 
 /// Form-factor options.
 #[derive(Clone, Copy, Debug, PartialEq)]

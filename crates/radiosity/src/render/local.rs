@@ -23,9 +23,9 @@
 use glam::Vec3;
 
 use super::raytrace::optics::reflect;
-use super::raytrace::sample::render_tiles;
+use super::raytrace::render_primary;
 use super::raytrace::world::World;
-use super::{Image, Projection, RasterSettings};
+use super::{Image, RasterSettings};
 use crate::mesh::{LitMesh, Mesh};
 use crate::scene::Camera;
 use crate::{Rgb, Scene};
@@ -86,49 +86,41 @@ pub fn render(
     settings: &LocalSettings,
 ) -> Image {
     let world = World::new(scene, mesh, lit);
-    let proj = Projection::new(camera, image.width, image.height);
     let ambient = settings.ambient.unwrap_or_else(|| default_ambient(mesh));
     let n = settings.phong_exponent.max(0.0);
-    render_tiles(
-        image.width,
-        image.height,
-        image.samples_per_pixel,
-        settings.jitter,
-        |px, py, sampler| {
-            let (origin, dir) = proj.primary_ray(px, py);
-            let Some(hit) = world.intersect(origin, dir, f32::INFINITY) else {
-                return Rgb::ZERO;
-            };
-            let m = world.material(hit.triangle);
-            if hit.diffuse.is_none() && !(m.two_sided) {
-                return Rgb::ZERO; // the back of a one-sided surface
+    render_primary(camera, image, settings.jitter, |origin, dir, sampler| {
+        let Some(hit) = world.intersect(origin, dir, f32::INFINITY) else {
+            return Rgb::ZERO;
+        };
+        let m = world.material(hit.triangle);
+        if hit.diffuse.is_none() && !(m.two_sided) {
+            return Rgb::ZERO; // the back of a one-sided surface
+        }
+        let emitted = if hit.front {
+            world.emitted(hit.triangle)
+        } else {
+            Rgb::ZERO
+        };
+        let diffuse = m.reflectance / std::f64::consts::PI;
+        let specular = m.specular * ((n + 2.0) / std::f64::consts::TAU);
+        let view = -dir;
+        let shading = hit.shading;
+        let brdf = |to_light: Vec3| {
+            if specular.max_element() <= 0.0 {
+                return diffuse;
             }
-            let emitted = if hit.front {
-                world.emitted(hit.triangle)
-            } else {
-                Rgb::ZERO
-            };
-            let diffuse = m.reflectance / std::f64::consts::PI;
-            let specular = m.specular * ((n + 2.0) / std::f64::consts::TAU);
-            let view = -dir;
-            let shading = hit.shading;
-            let brdf = |to_light: Vec3| {
-                if specular.max_element() <= 0.0 {
-                    return diffuse;
-                }
-                let mirror = reflect(-to_light, shading);
-                let cos_alpha = f64::from(mirror.dot(view).max(0.0));
-                diffuse + specular * cos_alpha.powf(n)
-            };
-            let direct = world.direct(
-                hit.point,
-                hit.shading,
-                settings.shadow_samples,
-                settings.shadows,
-                sampler,
-                brdf,
-            );
-            emitted + direct + diffuse * ambient
-        },
-    )
+            let mirror = reflect(-to_light, shading);
+            let cos_alpha = f64::from(mirror.dot(view).max(0.0));
+            diffuse + specular * cos_alpha.powf(n)
+        };
+        let direct = world.direct(
+            hit.point,
+            hit.shading,
+            settings.shadow_samples,
+            settings.shadows,
+            sampler,
+            brdf,
+        );
+        emitted + direct + diffuse * ambient
+    })
 }

@@ -50,14 +50,12 @@ pub mod jacobi;
 pub mod matrix;
 pub mod progressive;
 
-use std::fmt;
 use std::ops::Range;
-use std::str::FromStr;
 use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::formfactor::{FormFactors, Geometry};
+use crate::formfactor::{method_names, FormFactors, Geometry};
 use crate::progress::Progress;
 use crate::Rgb;
 
@@ -75,48 +73,17 @@ pub enum Method {
     Hierarchical,
 }
 
-impl Method {
-    /// Every method, in the order the command line lists them.
-    pub const ALL: [Method; 4] = [
-        Method::Jacobi,
-        Method::GaussSeidel,
-        Method::Progressive,
-        Method::Hierarchical,
-    ];
-
-    /// The name used on the command line and in stats.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Jacobi => "jacobi",
-            Method::GaussSeidel => "gauss-seidel",
-            Method::Progressive => "progressive",
-            Method::Hierarchical => "hierarchical",
-        }
+method_names!(
+    Method,
+    /// An unknown solver name.
+    "unknown solver `{0}` (choose jacobi, gauss-seidel, progressive or hierarchical)",
+    {
+        Jacobi => "jacobi",
+        GaussSeidel => "gauss-seidel",
+        Progressive => "progressive",
+        Hierarchical => "hierarchical",
     }
-}
-
-impl fmt::Display for Method {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-/// An unknown solver name.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown solver `{0}` (choose jacobi, gauss-seidel, progressive or hierarchical)")]
-pub struct UnknownMethod(pub String);
-
-impl FromStr for Method {
-    type Err = UnknownMethod;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Method::ALL
-            .into_iter()
-            .find(|m| m.name() == s)
-            .ok_or_else(|| UnknownMethod(s.to_owned()))
-    }
-}
+);
 
 /// Solver options.
 #[derive(Clone, Copy, Debug, PartialEq)]

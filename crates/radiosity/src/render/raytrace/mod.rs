@@ -109,19 +109,36 @@ pub fn render(
     settings: &RaytraceSettings,
 ) -> Image {
     let world = World::new(scene, mesh, lit);
-    let proj = Projection::new(camera, image.width, image.height);
     let tracer = Tracer {
         world: &world,
         settings,
     };
+    render_primary(camera, image, settings.jitter, |origin, dir, sampler| {
+        tracer.trace(origin, dir, 0, Rgb::ONE, sampler)
+    })
+}
+
+/// Renders the image through `camera`, a pixel being the mean of `shade(origin, dir, sampler)`
+/// over its primary rays (see [`render_tiles`]). Shared by the ray tracer and the local
+/// illumination model ([`super::local`]), which differ only in what a ray sees.
+pub(crate) fn render_primary<F>(
+    camera: &Camera,
+    image: &RasterSettings,
+    jitter: bool,
+    shade: F,
+) -> Image
+where
+    F: Fn(Vec3, Vec3, &mut Sampler) -> Rgb + Sync,
+{
+    let proj = Projection::new(camera, image.width, image.height);
     render_tiles(
         image.width,
         image.height,
         image.samples_per_pixel,
-        settings.jitter,
+        jitter,
         |px, py, sampler| {
             let (origin, dir) = proj.primary_ray(px, py);
-            tracer.trace(origin, dir, 0, Rgb::ONE, sampler)
+            shade(origin, dir, sampler)
         },
     )
 }
