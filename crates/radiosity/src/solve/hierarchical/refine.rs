@@ -51,7 +51,7 @@ impl Oracle<'_> {
         };
         let scale = b * view.area(l.receiver);
         scale * f64::from(l.factor) > self.threshold
-            || scale * f64::from(l.spread) > self.threshold * VARIATION
+            || scale * f64::from(l.spread()) > self.threshold * VARIATION
     }
 
     /// Whether a handle can be split: clusters and split faces always, leaves while their
@@ -107,7 +107,7 @@ pub fn round(view: &View, oracle: &Oracle, links: &[Link], force: &[u32]) -> Rou
 pub fn start(view: &View, oracle: &Oracle) -> Round {
     let mut out = Round::default();
     if !view.clusters.nodes.is_empty() {
-        Refiner { view, oracle }.pair(CLUSTER, CLUSTER, &mut out);
+        Refiner { view, oracle }.pair(CLUSTER, CLUSTER, false, &mut out);
     }
     out.splits.sort_unstable();
     out.splits.dedup();
@@ -167,11 +167,12 @@ impl Refiner<'_, '_> {
             return;
         }
         acc.refined += 1;
-        self.expand(l.receiver, l.source, side, acc);
+        self.expand(l.receiver, l.source, side, l.clear(), acc);
     }
 
-    /// Links from or to the children of one side of the pair (r, s).
-    fn expand(&self, r: u32, s: u32, side: Side, acc: &mut Round) {
+    /// Links from or to the children of one side of the pair (r, s); `clear` when the two
+    /// are faces known to be wholly visible to each other.
+    fn expand(&self, r: u32, s: u32, side: Side, clear: bool, acc: &mut Round) {
         let mut children = Vec::with_capacity(4);
         self.view
             .children(if side == Side::Receiver { r } else { s }, &mut children);
@@ -187,7 +188,7 @@ impl Refiner<'_, '_> {
                 .par_iter()
                 .fold(Round::default, |mut acc, &c| {
                     let (r, s) = pair(c);
-                    self.pair(r, s, &mut acc);
+                    self.pair(r, s, clear, &mut acc);
                     acc
                 })
                 .reduce(Round::default, Round::append);
@@ -195,13 +196,13 @@ impl Refiner<'_, '_> {
         } else {
             for c in children {
                 let (r, s) = pair(c);
-                self.pair(r, s, acc);
+                self.pair(r, s, clear, acc);
             }
         }
     }
 
     /// Estimates a new pair and refines it as far as it needs.
-    fn pair(&self, r: u32, s: u32, acc: &mut Round) {
+    fn pair(&self, r: u32, s: u32, clear: bool, acc: &mut Round) {
         if r == s {
             // A cluster with itself: every pair of its children (a face never lights itself).
             if r & CLUSTER == 0 {
@@ -216,14 +217,14 @@ impl Refiner<'_, '_> {
             let more = pairs
                 .par_iter()
                 .fold(Round::default, |mut acc, &(a, b)| {
-                    self.pair(a, b, &mut acc);
+                    self.pair(a, b, false, &mut acc);
                     acc
                 })
                 .reduce(Round::default, Round::append);
             *acc = std::mem::take(acc).append(more);
             return;
         }
-        match self.view.estimate(r, s) {
+        match self.view.estimate(r, s, clear) {
             Estimate::Nothing => {}
             Estimate::Link(l) => self.link(l, false, acc),
             Estimate::Open => {
@@ -239,7 +240,7 @@ impl Refiner<'_, '_> {
                     (true, false) => Side::Receiver,
                     _ => Side::Source,
                 };
-                self.expand(r, s, side, acc);
+                self.expand(r, s, side, false, acc);
             }
         }
     }
