@@ -86,6 +86,50 @@ fn sigint_writes_the_solution_so_far_and_exits_130() {
     std::fs::remove_dir_all(&dir).expect("cleanup");
 }
 
+#[test]
+fn sigint_stops_the_hierarchical_solver_too() {
+    // ε = 10⁻⁷ refines for minutes; the stop flag is read between refinement rounds and
+    // between gather iterations, and the links refined so far give a valid solution.
+    let dir = scratch("sigint-hierarchical");
+    let child = radiosity()
+        .args([
+            "render",
+            "cornell",
+            "--solver",
+            "hierarchical",
+            "--epsilon",
+            "1e-7",
+        ])
+        .args(["--width", "32", "--height", "32", "-o"])
+        .arg(dir.join("out.png"))
+        .arg("--stats")
+        .arg(dir.join("stats.json"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawns");
+    std::thread::sleep(Duration::from_secs(3));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(killed.success());
+    let out: Output = child.wait_with_output().expect("waits");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(
+        stderr.lines().any(|l| l.starts_with("interrupted after ")),
+        "{stderr}"
+    );
+    let png = std::fs::read(dir.join("out.png")).expect("image written");
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("stats.json")).expect("stats written"))
+            .expect("valid JSON");
+    assert_eq!(json["solver"]["method"], "hierarchical");
+    std::fs::remove_dir_all(&dir).expect("cleanup");
+}
+
 /// A progressive solve of a small Cornell box to convergence, optionally capped or resumed.
 fn small_solve(dir: &Path, extra: &[&str], stats: &str) -> Output {
     radiosity()

@@ -108,7 +108,7 @@ pub fn solve_controlled(
         if control.uses_checkpoints() {
             return Err(SolveError::CheckpointUnsupported.into());
         }
-        solve_hierarchical(scene, settings, progress, start)
+        solve_hierarchical(scene, settings, control, progress, start)
     };
     if settings.method == Some(solve::Method::Hierarchical) {
         return hierarchical(scene);
@@ -166,6 +166,7 @@ pub fn solve_controlled(
 fn solve_hierarchical(
     scene: Scene,
     settings: &Settings,
+    control: &Control,
     progress: &dyn Progress,
     start: Instant,
 ) -> Result<Solved, PipelineError> {
@@ -181,7 +182,7 @@ fn solve_hierarchical(
         method: solve::Method::Hierarchical,
         ..settings.solve
     };
-    let run = hierarchical::run(&mut mesh, &bvh, &solve_settings, progress);
+    let run = hierarchical::run(&mut mesh, &bvh, &solve_settings, control, progress);
     let radiosity: Vec<Rgb> = mesh
         .elements
         .iter()
@@ -206,8 +207,8 @@ fn solve_hierarchical(
         form_factor_seconds: run.refine_seconds,
         solve_seconds: run.solve_seconds,
         hierarchy: Some(run.stats),
-        history: Vec::new(),
-        interrupted: false,
+        history: run.history,
+        interrupted: run.interrupted,
     };
     let lit = display::lit_mesh(&mesh, &solution.radiosity);
     Ok(Solved {

@@ -288,7 +288,7 @@ pub fn solve_controlled(
         Method::Hierarchical => {
             // Refine a copy (node ids stay, so each given element reads its node's mean).
             let mut mesh = g.mesh.clone();
-            let run = hierarchical::run(&mut mesh, g.bvh, settings, progress);
+            let run = hierarchical::run(&mut mesh, g.bvh, settings, control, progress);
             solution.radiosity = g
                 .mesh
                 .elements
@@ -297,6 +297,8 @@ pub fn solve_controlled(
                 .collect();
             solution.iterations = run.iterations;
             solution.residual = run.residual;
+            solution.history = run.history;
+            solution.interrupted = run.interrupted;
             solution.links = run.stats.links;
             solution.form_factor_seconds = run.refine_seconds;
             solution.solve_seconds = run.solve_seconds;

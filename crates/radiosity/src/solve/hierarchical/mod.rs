@@ -43,6 +43,7 @@ pub mod refine;
 
 use std::time::Instant;
 
+use super::checkpoint::Control;
 use crate::accel::Bvh;
 use crate::mesh::{Mesh, Node};
 use crate::progress::Progress;
@@ -93,18 +94,27 @@ pub struct Outcome {
     pub solve_seconds: f64,
     /// Links, levels and memory.
     pub stats: HierarchyStats,
+    /// (iteration, residual, seconds since the start) after every gather iteration, over all
+    /// stages: the residual jumps up where a stage's refinement changed the links.
+    pub history: Vec<(usize, f64, f64)>,
+    /// Whether `control` stopped the run before it finished: the radiosity is then the last
+    /// iterate on the links refined so far (push-pull keeps it consistent at every step).
+    pub interrupted: bool,
 }
 
 /// Refines `mesh` and solves it hierarchically with the options of `settings` (`epsilon`,
-/// `min_element_area`, `tolerance`, `max_iterations`).
+/// `min_element_area`, `tolerance`, `max_iterations`), stopping early when `control`'s stop
+/// flag is set (checked between refinement rounds and between iterations).
 ///
 /// A scene that emits nothing gives B = 0 at once, with no links.
 pub fn run(
     mesh: &mut Mesh,
     bvh: &Bvh,
     settings: &super::Settings,
+    control: &Control,
     progress: &dyn Progress,
 ) -> Outcome {
+    let began = Instant::now();
     let clusters = Clusters::build(mesh);
     let mut state = State::new(mesh, &clusters);
     let area = |n: u32| state.node_area[n as usize];
@@ -141,6 +151,8 @@ pub fn run(
             clusters: clusters.nodes.len(),
             ..HierarchyStats::default()
         },
+        history: Vec::new(),
+        interrupted: false,
     };
     if !(emitted > 0.0 && emitted.is_finite()) {
         out.node_radiosity = state.node_b;
@@ -161,7 +173,7 @@ pub fn run(
     let mut peak = 0;
     let passes = STAGES + FINAL_PASSES + DISPLAY_PASSES;
     progress.start("hierarchical", u64::from(passes));
-    for pass in 0..passes {
+    'passes: for pass in 0..passes {
         let stage = pass.min(STAGES - 1);
         let threshold = epsilon * 4f64.powi((STAGES - 1 - stage) as i32) * peak_power;
         let display = pass >= STAGES + FINAL_PASSES;
@@ -175,6 +187,10 @@ pub fn run(
         let mut first = pass == 0;
         let mut refined = 0;
         loop {
+            if control.stopped() {
+                out.interrupted = true;
+                break 'passes;
+            }
             let (node_b, cluster_b) = brightness(&state);
             let oracle = Oracle {
                 threshold,
@@ -215,9 +231,16 @@ pub fn run(
             if out.iterations >= settings.max_iterations {
                 break;
             }
+            if control.stopped() {
+                out.interrupted = true;
+                out.solve_seconds += start.elapsed().as_secs_f64();
+                break 'passes;
+            }
             let change = state.iterate(mesh, &clusters, &links);
             out.iterations += 1;
             out.residual = change / emitted;
+            out.history
+                .push((out.iterations, out.residual, began.elapsed().as_secs_f64()));
             if out.residual < settings.tolerance {
                 break;
             }
