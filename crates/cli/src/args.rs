@@ -290,6 +290,18 @@ pub struct CommonArgs {
 /// `radiosity bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
+    /// What to measure: `rays` (BVH throughput) or `hierarchical` (the hierarchical solver
+    /// from 10⁴ to 10⁶ elements: the Cornell box at falling ε and a field of 200 spheres).
+    #[arg(long, value_enum, default_value_t = Suite::Rays)]
+    pub suite: Suite,
+    /// `--suite hierarchical`: the finest sphere tessellation of the field (icosphere
+    /// subdivisions; 200 spheres × 20·4^s triangles, 4 = 1 024 000).
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=5))]
+    pub largest: u32,
+    /// Run one case of `--suite hierarchical` and print its figures as JSON (used by the
+    /// suite, which runs each case in a process of its own to measure its peak memory).
+    #[arg(long, hide = true)]
+    pub case: Option<usize>,
     /// Triangles in the large benchmark scene (a field of tessellated spheres); the built-in
     /// Cornell box is always measured too.
     #[arg(long, default_value_t = 1_000_000, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
@@ -311,6 +323,15 @@ pub struct BenchArgs {
     /// another tracer: `benches/embree_rays.py`).
     #[arg(long, value_name = "DIR")]
     pub workload: Option<PathBuf>,
+}
+
+/// `bench --suite`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Suite {
+    /// Ray throughput of the BVH.
+    Rays,
+    /// Time, links and memory of the hierarchical solver against the element count.
+    Hierarchical,
 }
 
 /// `--mode`.

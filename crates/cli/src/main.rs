@@ -6,7 +6,7 @@
 //! radiosity render SCENE --mode local|radiosity|raytrace [--gather N]
 //! radiosity compare SCENE -o compare.png
 //! radiosity scenes
-//! radiosity bench
+//! radiosity bench [--suite rays|hierarchical]
 //! radiosity hemicube SCENE --element ID -o hemicube.png [--resolution N] [--heatmap]
 //! radiosity info SCENE
 //! radiosity solve SCENE --export scene.html --plot convergence.svg
@@ -22,6 +22,7 @@
 mod args;
 mod bars;
 mod bench;
+mod bench_hierarchical;
 mod compare;
 mod curve;
 mod hemicube;
@@ -60,6 +61,9 @@ fn main() -> ExitCode {
         Command::Compare(args) => compare::run(&args),
         Command::Scenes => list_scenes(),
         Command::Info(args) => info::run(&args),
+        Command::Bench(args) if args.suite == args::Suite::Hierarchical => {
+            bench_hierarchical::run(&args)
+        }
         Command::Bench(args) => bench::run(&args),
         Command::Hemicube(args) => hemicube::run(&args),
         Command::Curve(args) => curve::run(&args),
