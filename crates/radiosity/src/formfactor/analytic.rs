@@ -136,6 +136,34 @@ fn newell(polygon: &[DVec3]) -> DVec3 {
     0.5 * sum
 }
 
+/// The solid angle (sr) a convex polygon subtends at `point`, seen from the polygon's front
+/// (0 from behind or on its plane): a fan of triangles, each by Van Oosterom & Strackee's
+/// formula tan(Ω/2) = |a·(b×c)| / (abc + (a·b)c + (a·c)b + (b·c)a) (IEEE Trans. Biomed. Eng.
+/// 1983), a, b, c the vectors to the corners. An isotropic receiver (a cluster of surfaces
+/// facing every way) gathers from a source in proportion to it.
+#[must_use]
+pub fn solid_angle(point: DVec3, polygon: &[DVec3]) -> f64 {
+    if polygon.len() < 3 {
+        return 0.0;
+    }
+    let normal = (1..polygon.len() - 1)
+        .map(|k| (polygon[k] - polygon[0]).cross(polygon[k + 1] - polygon[0]))
+        .sum::<DVec3>();
+    if normal.dot(point - polygon[0]) <= 0.0 {
+        return 0.0;
+    }
+    let a = polygon[0] - point;
+    (1..polygon.len() - 1)
+        .map(|k| {
+            let (b, c) = (polygon[k] - point, polygon[k + 1] - point);
+            let (la, lb, lc) = (a.length(), b.length(), c.length());
+            let numerator = a.dot(b.cross(c)).abs();
+            let denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+            2.0 * numerator.atan2(denominator)
+        })
+        .sum()
+}
+
 /// Closed-form form factor between two coaxial parallel rectangles `a × b`, `distance` apart
 /// (Howell's catalogue C-11). Two unit squares one apart: 0.1998249.
 #[must_use]
@@ -220,5 +248,18 @@ mod tests {
             point_to_polygon(DVec3::ZERO, -DVec3::Z, &square_facing_down(1.0)),
             0.0
         );
+    }
+
+    #[test]
+    fn solid_angle_of_a_square_and_its_far_field() {
+        // A unit square seen from distance 1/2 above its centre: one sixth of the sphere
+        // (a face of the cube around the point), 4π/6; from behind, nothing; far away, A/d².
+        let square =
+            [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(x, y)| DVec3::new(x, y, 0.0));
+        let above = DVec3::new(0.5, 0.5, 0.5);
+        assert!((solid_angle(above, &square) - 4.0 * PI / 6.0).abs() < 1e-12);
+        assert_eq!(solid_angle(DVec3::new(0.5, 0.5, -0.5), &square), 0.0);
+        let far = solid_angle(DVec3::new(0.5, 0.5, 1e3), &square);
+        assert!((far - 1e-6).abs() < 1e-12, "{far}");
     }
 }

@@ -36,7 +36,7 @@ use glam::{DVec3, Vec3};
 
 use super::cluster::Clusters;
 use crate::accel::{Bvh, Ray};
-use crate::formfactor::analytic::point_to_polygon;
+use crate::formfactor::analytic::{point_to_polygon, solid_angle};
 use crate::formfactor::{facing, Receiver};
 use crate::mesh::Mesh;
 
@@ -228,7 +228,28 @@ impl<'a> View<'a> {
         let (lo_r, c_r, hi_r) = self.cosines(r, w, alpha);
         let (lo_s, c_s, hi_s) = self.cosines(s, -w, alpha);
         let kernel = self.area(s) / std::f64::consts::PI;
-        let f = (kernel * c_r * c_s / f64::from(distance).powi(2)).min(1.0);
+        // Between a cluster and a face, the face's solid angle from the cluster's centre
+        // replaces A·cosθ/d² (exact over the face, where the point kernel is off by the
+        // face's size over the distance squared: 8 % for a 1 m light node 3.6 m away).
+        let face = |h: u32| {
+            let corners = self.mesh.nodes[h as usize].face.corners();
+            let mut polygon = [DVec3::ZERO; 4];
+            for (p, c) in polygon.iter_mut().zip(corners) {
+                *p = c.as_dvec3();
+            }
+            (polygon, corners.len())
+        };
+        let f = if s & CLUSTER == 0 {
+            let (polygon, n) = face(s);
+            c_r * solid_angle(cr.as_dvec3(), &polygon[..n]) / std::f64::consts::PI
+        } else if r & CLUSTER == 0 {
+            let (polygon, n) = face(r);
+            c_s * self.area(s) * solid_angle(cs.as_dvec3(), &polygon[..n])
+                / (std::f64::consts::PI * self.area(r))
+        } else {
+            kernel * c_r * c_s / f64::from(distance).powi(2)
+        }
+        .min(1.0);
         let most = (kernel * hi_r * hi_s / (near * near)).min(1.0);
         let least = kernel * lo_r * lo_s / (far * far);
         if most.is_nan() || most <= 0.0 {
