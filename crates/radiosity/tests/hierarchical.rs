@@ -62,6 +62,43 @@ fn cube_power_is_emitted_over_one_minus_rho() {
 }
 
 #[test]
+fn furnace_objects_agree_with_gauss_seidel() {
+    // The built-in furnace (closed unit cube, ρ = 0.5, ceiling emitting) against Gauss-Seidel
+    // with every element a source: measured 0.51 % worst (floor) at ε = 1e-4 and 4 000
+    // elements; asserted within 1 % per object.
+    let furnace = || builtin::load("furnace").unwrap().unwrap();
+    let h = run(furnace(), &hierarchical(1e-4, 1e-8));
+    let reference = run(
+        furnace(),
+        &Settings {
+            subdivision: Subdivision::Elements(1500),
+            method: Some(Method::GaussSeidel),
+            solve: solve::Settings {
+                tolerance: 1e-8,
+                max_sources: usize::MAX,
+                ..solve::Settings::default()
+            },
+            ..Settings::default()
+        },
+    );
+    let (a, b) = (
+        h.stats(&h.timings).objects,
+        reference.stats(&reference.timings).objects,
+    );
+    assert_eq!(a.len(), 6);
+    for (x, y) in a.iter().zip(&b) {
+        let error = (x.radiosity[0] - y.radiosity[0]).abs() / y.radiosity[0];
+        assert!(
+            error < 0.01,
+            "{}: {} vs {}",
+            x.name,
+            x.radiosity[0],
+            y.radiosity[0]
+        );
+    }
+}
+
+#[test]
 fn cube_emitting_everywhere_is_uniform_on_average() {
     // Every face emits E = π: B = E/(1 − ρ). Links gathered by a parent give its children the
     // parent's mean factor, so single corner elements are off by up to ~20 % (they are tiny:
