@@ -118,7 +118,9 @@ pub fn solve_controlled(
     }
     if settings.method.is_none()
         && (!gathering_fits(roots, elements, limit)
-            || (roots > MANY_ROOTS && settings.subdivision == Subdivision::default()))
+            || (roots > MANY_ROOTS
+                && settings.subdivision == Subdivision::default()
+                && !control.uses_checkpoints()))
     {
         return hierarchical(scene);
     }
@@ -225,7 +227,7 @@ fn solve_hierarchical(
 }
 
 /// Root faces beyond which the automatic choice is hierarchical radiosity even when a matrix
-/// would fit (unless a subdivision was asked for). Measured (2 cores): the teapot scene (2 096
+/// would fit (unless a subdivision or checkpoints were asked for). Measured (2 cores): the teapot scene (2 096
 /// root faces) solves hierarchically in 1.5 s against Gauss-Seidel's 2.0 s at the default
 /// 4 096 elements, which are then so coarse under the teapot that its shadow is missed and the
 /// floor comes out 27 % too bright (hierarchical: within 3 % of every object of Gauss-Seidel at
