@@ -25,6 +25,10 @@ use rayon::prelude::*;
 use super::link::{Estimate, Link, View, CLUSTER};
 use crate::mesh::{Mesh, MAX_LEVEL};
 
+/// The largest share of a receiving cluster's radiosity one link may bring
+/// ([`Oracle::pushes_unevenly`]).
+pub const PUSH: f64 = 0.1;
+
 /// The variation test's threshold, as a fraction of the power threshold.
 pub const VARIATION: f64 = 0.125;
 
@@ -52,6 +56,25 @@ impl Oracle<'_> {
         let scale = b * view.area(l.receiver);
         scale * f64::from(l.factor) > self.threshold
             || scale * f64::from(l.spread()) > self.threshold * VARIATION
+    }
+
+    /// Whether a cluster receives through `l` so much of its light that pushing it to all its
+    /// faces alike would show: B_s·F > [`PUSH`]·B_r. A cluster spreads what it gathers evenly
+    /// over its faces, also those turned away from the source; that is harmless for a trickle
+    /// of indirect light and visibly wrong for a lamp (blotches on the teapot), so such links
+    /// are split on the receiver side until they reach faces. In the first pass (B = E) every
+    /// emitter's links reach faces this way.
+    fn pushes_unevenly(&self, l: &Link) -> bool {
+        if l.receiver & CLUSTER == 0 {
+            return false;
+        }
+        let b = if l.source & CLUSTER != 0 {
+            self.cluster_b[(l.source & !CLUSTER) as usize]
+        } else {
+            self.node_b[l.source as usize]
+        };
+        let receiver = self.cluster_b[(l.receiver & !CLUSTER) as usize];
+        b * f64::from(l.factor) > PUSH * receiver
     }
 
     /// Whether a handle can be split: clusters and split faces always, leaves while their
@@ -131,7 +154,7 @@ impl Refiner<'_, '_> {
     /// Keeps `l`, or replaces it by finer links, or keeps it pending a leaf split.
     fn link(&self, l: Link, forced: bool, acc: &mut Round) {
         let can = |h| Oracle::splittable(self.view.mesh, self.oracle.min_area, h);
-        let side = if forced && can(l.receiver) {
+        let side = if (forced || self.oracle.pushes_unevenly(&l)) && can(l.receiver) {
             Some(Side::Receiver)
         } else if !self.oracle.too_coarse(self.view, &l) {
             None
