@@ -227,13 +227,13 @@ fn solve_hierarchical(
 }
 
 /// Root faces beyond which the automatic choice is hierarchical radiosity even when a matrix
-/// would fit (unless a subdivision or checkpoints were asked for). Measured (2 cores): the teapot scene (2 096
-/// root faces) solves hierarchically in 1.5 s against Gauss-Seidel's 2.0 s at the default
-/// 4 096 elements, which are then so coarse under the teapot that its shadow is missed and the
-/// floor comes out 27 % too bright (hierarchical: within 3 % of every object of Gauss-Seidel at
-/// 16 422 elements, which takes 21 s); cornell-spheres (2 569) 0.56 s against 6.7 s, objects
-/// within 0.9 %. The Cornell box (19) stays with Gauss-Seidel, 0.4 % from the Mitsuba reference
-/// against hierarchical's 1.1 %.
+/// would fit (unless a subdivision or checkpoints were asked for). Measured (2 cores): the
+/// teapot scene (2 096 root faces) solves hierarchically in 1.5 s against Gauss-Seidel's 2.0 s
+/// at the default 4 096 elements, which are then so coarse under the teapot that its shadow is
+/// missed and the floor comes out 27 % too bright (hierarchical: within 3.5 % of every object
+/// of Gauss-Seidel at 16 422 elements, which takes 21 s); cornell-spheres (2 569) 0.56 s
+/// against 6.7 s, objects within 0.9 %. The Cornell box (19) stays with Gauss-Seidel, 0.4 %
+/// from the Mitsuba reference against hierarchical's 1.1 %.
 const MANY_ROOTS: usize = 1000;
 
 /// Fewest sources the automatic choice accepts for gathering before it turns to progressive
