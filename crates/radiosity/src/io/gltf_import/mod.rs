@@ -45,8 +45,14 @@ use glam::{Mat4, Vec3};
 use gltf::mesh::Mode;
 
 use super::obj::{ObjFace, ObjFile};
-use crate::scene::{Camera, Loc, Material, SceneError};
+use crate::scene::{Camera, Material, SceneError};
 use crate::Rgb;
+
+mod buffers;
+mod error;
+
+use buffers::load_buffers;
+use error::gltf_error;
 
 /// The largest reflectance an imported material keeps (glTF's default base colour is 1).
 pub const MAX_REFLECTANCE: f64 = 0.99;
@@ -311,65 +317,6 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
     Ok(out)
 }
 
-/// A `gltf` error as a [`SceneError`]: a JSON syntax or type error at its line and column (of
-/// the file for `.gltf`; of the JSON chunk, in the message, for `.glb`), a validation error
-/// under the JSON path of its first problem (`accessors[0].bufferView`).
-fn gltf_error(e: gltf::Error, bytes: &[u8], file: &Path) -> SceneError {
-    match e {
-        gltf::Error::Deserialize(e) if e.line() > 0 => {
-            // `serde_json` appends the position to its message and counts columns in bytes.
-            let text = e.to_string();
-            let suffix = format!(" at line {} column {}", e.line(), e.column());
-            let cause = text.strip_suffix(&suffix).unwrap_or(&text);
-            if bytes.starts_with(b"glTF") {
-                let col = gltf::Glb::from_slice(bytes).map_or(e.column(), |glb| {
-                    char_column(&glb.json, e.line(), e.column())
-                });
-                SceneError::in_file(
-                    file,
-                    format!(
-                        "invalid glTF: JSON chunk line {} col {col}: {cause}",
-                        e.line()
-                    ),
-                )
-            } else {
-                let loc = Loc {
-                    file: file.to_path_buf(),
-                    line: e.line(),
-                    col: char_column(bytes, e.line(), e.column()),
-                };
-                SceneError::at(loc, format!("invalid glTF: {cause}"))
-            }
-        }
-        gltf::Error::Validation(problems) if !problems.is_empty() => {
-            let (path, problem) = &problems[0];
-            let more = match problems.len() - 1 {
-                0 => String::new(),
-                n => format!(" (and {n} more problem(s))"),
-            };
-            let problem = problem.to_string().to_lowercase();
-            SceneError::in_file(file, format!("invalid glTF: {problem}{more}"))
-                .with_key(path.as_str().replace("[\"", ".").replace("\"]", ""))
-        }
-        e => SceneError::in_file(file, format!("invalid glTF: {e}")),
-    }
-}
-
-/// The 1-based character column of the character that ends at byte column `byte_col` (1-based,
-/// as `serde_json` counts) of 1-based line `line` of `text` (at least 1).
-fn char_column(text: &[u8], line: usize, byte_col: usize) -> usize {
-    let line = text
-        .split(|&b| b == b'\n')
-        .nth(line.saturating_sub(1))
-        .unwrap_or_default();
-    // UTF-8 continuation bytes are 0b10xx_xxxx; every other byte starts a character.
-    let starts = line[..byte_col.min(line.len())]
-        .iter()
-        .filter(|&&b| b & 0xC0 != 0x80)
-        .count();
-    starts.max(1)
-}
-
 /// A glTF material as a radiosity material; its name is pushed to `clamped` when its base
 /// colour had to be brought below 1.
 fn material(m: &gltf::Material, name: &str, clamped: &mut Vec<String>) -> Material {
@@ -440,97 +387,10 @@ fn bad_accessor_type(primitive: &gltf::Primitive) -> Option<&'static str> {
     }
 }
 
-/// The bytes of every buffer, in order: the GLB binary chunk, a `data:` URI or a file.
-fn load_buffers(gltf: &gltf::Gltf, file: &Path) -> Result<Vec<Vec<u8>>, SceneError> {
-    let mut out = Vec::new();
-    for buffer in gltf.document.buffers() {
-        let err = |m: String| SceneError::in_file(file, format!("buffer {}: {m}", buffer.index()));
-        let data = match buffer.source() {
-            gltf::buffer::Source::Bin => gltf
-                .blob
-                .clone()
-                .ok_or_else(|| err("the GLB binary chunk is missing".into()))?,
-            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
-                let payload = uri
-                    .split_once(";base64,")
-                    .map(|(_, p)| p)
-                    .ok_or_else(|| err("only base64 data URIs are supported".into()))?;
-                decode_base64(payload).ok_or_else(|| err("malformed base64 data".into()))?
-            }
-            gltf::buffer::Source::Uri(uri) => {
-                let path = file
-                    .parent()
-                    .unwrap_or(Path::new(""))
-                    .join(percent_decode(uri));
-                std::fs::read(&path)
-                    .map_err(|e| err(format!("cannot read `{}`: {e}", path.display())))?
-            }
-        };
-        if data.len() < buffer.length() {
-            return Err(err(format!(
-                "holds {} bytes, fewer than its byteLength {}",
-                data.len(),
-                buffer.length()
-            )));
-        }
-        out.push(data);
-    }
-    Ok(out)
-}
-
-/// Decodes standard base64 (RFC 4648 §4), padding optional; `None` on a bad character.
-fn decode_base64(text: &str) -> Option<Vec<u8>> {
-    let mut out = Vec::with_capacity(text.len() * 3 / 4);
-    let (mut acc, mut bits) = (0u32, 0u32);
-    for c in text
-        .bytes()
-        .filter(|&c| c != b'=' && !c.is_ascii_whitespace())
-    {
-        let v = match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' => 62,
-            b'/' => 63,
-            _ => return None,
-        };
-        acc = (acc << 6) | u32::from(v);
-        bits += 6;
-        if bits >= 8 {
-            bits -= 8;
-            out.push((acc >> bits) as u8);
-            acc &= (1 << bits) - 1;
-        }
-    }
-    Some(out)
-}
-
-/// Decodes `%XX` escapes of a relative URI (RFC 3986 §2.1); malformed escapes stay as written.
-fn percent_decode(uri: &str) -> String {
-    let bytes = uri.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        let hex = bytes
-            .get(i + 1..i + 3)
-            .and_then(|h| std::str::from_utf8(h).ok())
-            .and_then(|h| u8::from_str_radix(h, 16).ok());
-        match (bytes[i], hex) {
-            (b'%', Some(b)) => {
-                out.push(b);
-                i += 3;
-            }
-            (b, _) => {
-                out.push(b);
-                i += 1;
-            }
-        }
-    }
-    String::from_utf8_lossy(&out).into_owned()
-}
-
 #[cfg(test)]
 mod tests {
+    use super::buffers::{decode_base64, percent_decode};
+    use super::error::char_column;
     use super::*;
 
     /// A `.gltf` with one triangle in a data URI, under a node that translates by (0, 0, −2)
