@@ -46,17 +46,22 @@ fn long_render(dir: &Path) -> Command {
     cmd
 }
 
-#[test]
-fn sigint_writes_the_solution_so_far_and_exits_130() {
-    let dir = scratch("sigint");
-    let child = long_render(&dir).spawn().expect("spawns");
+/// Runs `cmd`, sends it SIGINT after 3 s and waits for it.
+fn interrupted_after_3_s(mut cmd: Command) -> Output {
+    let child = cmd.spawn().expect("spawns");
     std::thread::sleep(Duration::from_secs(3));
     let killed = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
         .expect("kill runs");
     assert!(killed.success());
-    let out: Output = child.wait_with_output().expect("waits");
+    child.wait_with_output().expect("waits")
+}
+
+#[test]
+fn sigint_writes_the_solution_so_far_and_exits_130() {
+    let dir = scratch("sigint");
+    let out = interrupted_after_3_s(long_render(&dir));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{stderr}");
     let line = stderr
@@ -91,30 +96,22 @@ fn sigint_stops_the_hierarchical_solver_too() {
     // ε = 10⁻⁷ refines for minutes; the stop flag is read between refinement rounds and
     // between gather iterations, and the links refined so far give a valid solution.
     let dir = scratch("sigint-hierarchical");
-    let child = radiosity()
-        .args([
-            "render",
-            "cornell",
-            "--solver",
-            "hierarchical",
-            "--epsilon",
-            "1e-7",
-        ])
-        .args(["--width", "32", "--height", "32", "-o"])
-        .arg(dir.join("out.png"))
-        .arg("--stats")
-        .arg(dir.join("stats.json"))
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawns");
-    std::thread::sleep(Duration::from_secs(3));
-    let killed = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill runs");
-    assert!(killed.success());
-    let out: Output = child.wait_with_output().expect("waits");
+    let mut cmd = radiosity();
+    cmd.args([
+        "render",
+        "cornell",
+        "--solver",
+        "hierarchical",
+        "--epsilon",
+        "1e-7",
+    ])
+    .args(["--width", "32", "--height", "32", "-o"])
+    .arg(dir.join("out.png"))
+    .arg("--stats")
+    .arg(dir.join("stats.json"))
+    .stdout(Stdio::null())
+    .stderr(Stdio::piped());
+    let out = interrupted_after_3_s(cmd);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{stderr}");
     assert!(

@@ -117,29 +117,18 @@ pub fn run(
     let began = Instant::now();
     let clusters = Clusters::build(mesh);
     let mut state = State::new(mesh, &clusters);
-    let area = |n: u32| state.node_area[n as usize];
-    let emitted: f64 = mesh
-        .elements
-        .iter()
-        .map(|&n| {
-            area(n)
-                * mesh.patches[mesh.nodes[n as usize].patch as usize]
-                    .emission
-                    .abs()
-                    .element_sum()
-        })
-        .sum();
-    let peak_power: f64 = mesh
-        .elements
-        .iter()
-        .map(|&n| {
-            area(n)
-                * mesh.patches[mesh.nodes[n as usize].patch as usize]
-                    .emission
-                    .abs()
-                    .max_element()
-        })
-        .sum();
+    // Σ A·|E| over the elements, each channel reduced by `channels`.
+    let power = |channels: fn(Rgb) -> f64| -> f64 {
+        mesh.elements
+            .iter()
+            .map(|&n| {
+                let patch = &mesh.patches[mesh.nodes[n as usize].patch as usize];
+                state.node_area[n as usize] * channels(patch.emission.abs())
+            })
+            .sum()
+    };
+    let emitted = power(Rgb::element_sum);
+    let peak_power = power(Rgb::max_element);
     let mut out = Outcome {
         node_radiosity: Vec::new(),
         irradiance: vec![Rgb::ZERO; mesh.element_count()],
