@@ -74,10 +74,7 @@ impl Aabb {
     /// The box of some points.
     #[must_use]
     pub fn from_points(points: &[Vec3]) -> Self {
-        points.iter().fold(Self::EMPTY, |b, &p| Self {
-            min: b.min.min(p),
-            max: b.max.max(p),
-        })
+        points.iter().copied().collect()
     }
 
     /// The smallest box containing both.
@@ -100,6 +97,16 @@ impl Aabb {
     pub fn half_area(&self) -> f32 {
         let d = (self.max - self.min).max(Vec3::ZERO);
         d.x * d.y + d.y * d.z + d.z * d.x
+    }
+}
+
+/// The box of the points an iterator yields ([`Aabb::EMPTY`] for none).
+impl FromIterator<Vec3> for Aabb {
+    fn from_iter<I: IntoIterator<Item = Vec3>>(points: I) -> Self {
+        points.into_iter().fold(Self::EMPTY, |b, p| Self {
+            min: b.min.min(p),
+            max: b.max.max(p),
+        })
     }
 }
 

@@ -310,12 +310,8 @@ pub(crate) fn pair_unoccluded(g: &Geometry, receiver: &Receiver, e: usize, s: us
     ) {
         return 0.0;
     }
-    let mut corners = [DVec3::ZERO; 4];
-    let cs = source.face.corners();
-    for (o, c) in corners.iter_mut().zip(cs) {
-        *o = c.as_dvec3();
-    }
-    unoccluded(receiver, &corners[..cs.len()])
+    let (corners, sides) = source.face.corners_f64();
+    unoccluded(receiver, &corners[..sides])
 }
 
 /// Computes `out[s] = pair(receiver, s)` for every source of one element.

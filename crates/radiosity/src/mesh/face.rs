@@ -41,6 +41,16 @@ impl Face {
         &self.corners[..usize::from(self.sides)]
     }
 
+    /// The corners in `f64` (the form-factor formulas' precision) and how many there are.
+    #[must_use]
+    pub fn corners_f64(&self) -> ([glam::DVec3; 4], usize) {
+        let mut out = [glam::DVec3::ZERO; 4];
+        for (o, c) in out.iter_mut().zip(self.corners()) {
+            *o = c.as_dvec3();
+        }
+        (out, usize::from(self.sides))
+    }
+
     /// Whether this is a quadrilateral.
     #[must_use]
     pub fn is_quad(&self) -> bool {

@@ -26,6 +26,7 @@ use std::ops::Range;
 
 use glam::Vec3;
 
+use crate::accel::Aabb;
 use crate::mesh::Mesh;
 
 /// Most root faces directly under a leaf cluster.
@@ -87,12 +88,11 @@ impl Clusters {
             }
         }
         for g in &mut groups {
-            let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-            for &i in &order[g.faces.clone()] {
-                lo = lo.min(centroids[i as usize]);
-                hi = hi.max(centroids[i as usize]);
-            }
-            g.center = 0.5 * (lo + hi);
+            let b: Aabb = order[g.faces.clone()]
+                .iter()
+                .map(|&i| centroids[i as usize])
+                .collect();
+            g.center = 0.5 * (b.min + b.max);
         }
         let mut out = Clusters::default();
         let mut placed = Vec::with_capacity(faces.len());
@@ -121,21 +121,20 @@ impl Clusters {
     /// Appends a cluster over the faces `ids` (indices into `faces`) placed at `offset` of
     /// the final face order, without children; returns its index.
     fn push(&mut self, mesh: &Mesh, faces: &[u32], ids: &[u32], offset: usize) -> u32 {
-        let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+        let face = |i: &u32| &mesh.nodes[faces[*i as usize] as usize].face;
+        let b: Aabb = ids
+            .iter()
+            .flat_map(|i| face(i).corners().iter().copied())
+            .collect();
         let (mut area, mut vector_area) = (0.0, glam::DVec3::ZERO);
-        for &i in ids {
-            let face = &mesh.nodes[faces[i as usize] as usize].face;
-            for &c in face.corners() {
-                lo = lo.min(c);
-                hi = hi.max(c);
-            }
-            area += face.area();
-            vector_area += face.vector_area();
+        for i in ids {
+            area += face(i).area();
+            vector_area += face(i).vector_area();
         }
         let index = self.nodes.len() as u32;
         self.nodes.push(Cluster {
-            center: 0.5 * (lo + hi),
-            radius: 0.5 * (hi - lo).length(),
+            center: 0.5 * (b.min + b.max),
+            radius: 0.5 * (b.max - b.min).length(),
             area,
             vector_area,
             faces: offset as u32..(offset + ids.len()) as u32,
@@ -288,12 +287,8 @@ impl Build<'_> {
 
 /// The axis (0, 1, 2) along which `points` spread the most.
 fn longest_axis(points: impl Iterator<Item = Vec3>) -> usize {
-    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for p in points {
-        lo = lo.min(p);
-        hi = hi.max(p);
-    }
-    let extent = hi - lo;
+    let b: Aabb = points.collect();
+    let extent = b.max - b.min;
     if extent.x >= extent.y && extent.x >= extent.z {
         0
     } else if extent.y >= extent.z {

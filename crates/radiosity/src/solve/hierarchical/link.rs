@@ -118,6 +118,19 @@ pub enum Estimate {
     Link(Link),
 }
 
+/// Two disjoint bounding spheres: every segment between them lies within the angle `alpha`
+/// of the centres' line `w` and is between `near` and `far` long.
+#[derive(Clone, Copy, Debug)]
+struct Separation {
+    cr: Vec3,
+    cs: Vec3,
+    distance: f32,
+    w: DVec3,
+    alpha: f64,
+    near: f64,
+    far: f64,
+}
+
 /// The hierarchy as the refinement sees it: mesh quadtrees below, clusters above.
 #[derive(Clone, Copy, Debug)]
 pub struct View<'a> {
@@ -201,18 +214,20 @@ impl<'a> View<'a> {
         if r & CLUSTER == 0 && s & CLUSTER == 0 {
             return self.face_to_face(r, s, clear);
         }
-        let ((cr, rr), (cs, rs)) = (self.sphere(r), self.sphere(s));
-        let d = cs - cr;
-        let distance = d.length();
         // Overlapping spheres (or NaN geometry): the kernel cannot be trusted.
-        if distance.is_nan() || distance <= rr + rs {
+        let Some(Separation {
+            cr,
+            cs,
+            distance,
+            w,
+            alpha,
+            near,
+            far,
+        }) = self.separation(r, s)
+        else {
             return Estimate::Open;
-        }
-        let w = (d / distance).as_dvec3();
-        // Every segment between the two spheres is within the angle α of the centres' line,
-        // and between distance − (rr + rs) and distance + (rr + rs) long.
-        let alpha = f64::from((rr + rs) / distance).min(1.0).asin();
-        let (near, far) = (f64::from(distance - rr - rs), f64::from(distance + rr + rs));
+        };
+        let (rr, rs) = (self.sphere(r).1, self.sphere(s).1);
         // A face whose plane cuts the other side's sphere sees it partly from behind: the
         // kernel between centres says little there (a wall next to the cluster of its
         // neighbours, say), so the cluster is opened.
@@ -232,14 +247,7 @@ impl<'a> View<'a> {
         // Between a cluster and a face, the face's solid angle from the cluster's centre
         // replaces A·cosθ/d² (exact over the face, where the point kernel is off by the
         // face's size over the distance squared: 8 % for a 1 m light node 3.6 m away).
-        let face = |h: u32| {
-            let corners = self.mesh.nodes[h as usize].face.corners();
-            let mut polygon = [DVec3::ZERO; 4];
-            for (p, c) in polygon.iter_mut().zip(corners) {
-                *p = c.as_dvec3();
-            }
-            (polygon, corners.len())
-        };
+        let face = |h: u32| self.mesh.nodes[h as usize].face.corners_f64();
         let f = if s & CLUSTER == 0 {
             let (polygon, n) = face(s);
             c_r * solid_angle(cr.as_dvec3(), &polygon[..n]) / std::f64::consts::PI
@@ -251,7 +259,7 @@ impl<'a> View<'a> {
             kernel * c_r * c_s / f64::from(distance).powi(2)
         }
         .min(1.0);
-        let most = (kernel * hi_r * hi_s / (near * near)).min(1.0);
+        let most = self.largest_kernel(s, hi_r, hi_s, near).min(1.0);
         let least = kernel * lo_r * lo_s / (far * far);
         if most.is_nan() || most <= 0.0 {
             return Estimate::Nothing;
@@ -274,18 +282,37 @@ impl<'a> View<'a> {
     /// from the two bounding spheres, and never more than min(1, A_s/A_r) (reciprocity: the
     /// most it can be when the spheres overlap).
     fn bound(&self, r: u32, s: u32) -> f64 {
-        let ((cr, rr), (cs, rs)) = (self.sphere(r), self.sphere(s));
-        let distance = cr.distance(cs);
         let most = (self.area(s) / self.area(r)).min(1.0);
-        if distance.is_nan() || distance <= rr + rs {
+        let Some(sep) = self.separation(r, s) else {
             return most;
+        };
+        let (_, _, hi_r) = self.cosines(r, sep.w, sep.alpha);
+        let (_, _, hi_s) = self.cosines(s, -sep.w, sep.alpha);
+        self.largest_kernel(s, hi_r, hi_s, sep.near).min(most)
+    }
+
+    /// How two handles' bounding spheres lie to each other, or `None` when they overlap (or
+    /// the geometry is NaN).
+    fn separation(&self, r: u32, s: u32) -> Option<Separation> {
+        let ((cr, rr), (cs, rs)) = (self.sphere(r), self.sphere(s));
+        let distance = (cs - cr).length();
+        if distance.is_nan() || distance <= rr + rs {
+            return None;
         }
-        let w = ((cs - cr) / distance).as_dvec3();
-        let alpha = f64::from((rr + rs) / distance).min(1.0).asin();
-        let near = f64::from(distance - rr - rs);
-        let (_, _, hi_r) = self.cosines(r, w, alpha);
-        let (_, _, hi_s) = self.cosines(s, -w, alpha);
-        (self.area(s) * hi_r * hi_s / (std::f64::consts::PI * near * near)).min(most)
+        Some(Separation {
+            cr,
+            cs,
+            distance,
+            w: ((cs - cr) / distance).as_dvec3(),
+            alpha: f64::from((rr + rs) / distance).min(1.0).asin(),
+            near: f64::from(distance - rr - rs),
+            far: f64::from(distance + rr + rs),
+        })
+    }
+
+    /// The point kernel A_s·c_r·c_s / (π d²) at the largest cosines and the nearest distance.
+    fn largest_kernel(&self, s: u32, hi_r: f64, hi_s: f64, near: f64) -> f64 {
+        self.area(s) / std::f64::consts::PI * hi_r * hi_s / (near * near)
     }
 
     /// The cosine factor of handle `h` toward the unit direction `w`, with its least and
@@ -329,12 +356,8 @@ impl<'a> View<'a> {
             && !touching(&nr.face, &ns.face, normal(nr.patch), normal(ns.patch));
         let mut receiver = Receiver::default();
         receiver.set(&nr.face, if near { NEAR_QUADRATURE } else { QUADRATURE });
-        let mut corners = [DVec3::ZERO; 4];
-        let cs = ns.face.corners();
-        for (o, c) in corners.iter_mut().zip(cs) {
-            *o = c.as_dvec3();
-        }
-        let polygon = &corners[..cs.len()];
+        let (corners, sides) = ns.face.corners_f64();
+        let polygon = &corners[..sides];
         let (mut f, mut lo, mut hi) = (0.0, f64::INFINITY, 0.0f64);
         for &(x, w) in &receiver.points {
             let point = point_to_polygon(x, receiver.normal, polygon);

@@ -46,13 +46,18 @@ pub struct Oracle<'a> {
 }
 
 impl Oracle<'_> {
+    /// The radiosity (largest channel) of a handle.
+    fn radiosity(&self, h: u32) -> f64 {
+        if h & CLUSTER != 0 {
+            self.cluster_b[(h & !CLUSTER) as usize]
+        } else {
+            self.node_b[h as usize]
+        }
+    }
+
     /// Whether the link moves too much power (B_s·F·A_r), or too uncertain a part of it.
     fn too_coarse(&self, view: &View, l: &Link) -> bool {
-        let b = if l.source & CLUSTER != 0 {
-            self.cluster_b[(l.source & !CLUSTER) as usize]
-        } else {
-            self.node_b[l.source as usize]
-        };
+        let b = self.radiosity(l.source);
         let scale = b * view.area(l.receiver);
         scale * f64::from(l.factor) > self.threshold
             || scale * f64::from(l.spread()) > self.threshold * VARIATION
@@ -68,13 +73,8 @@ impl Oracle<'_> {
         if l.receiver & CLUSTER == 0 {
             return false;
         }
-        let b = if l.source & CLUSTER != 0 {
-            self.cluster_b[(l.source & !CLUSTER) as usize]
-        } else {
-            self.node_b[l.source as usize]
-        };
-        let receiver = self.cluster_b[(l.receiver & !CLUSTER) as usize];
-        b * f64::from(l.factor) > PUSH * receiver
+        let b = self.radiosity(l.source);
+        b * f64::from(l.factor) > PUSH * self.radiosity(l.receiver)
     }
 
     /// Whether a handle can be split: clusters and split faces always, leaves while their
