@@ -356,53 +356,62 @@ impl Solved {
     }
 
     /// Groups polygons by `group(polygon)`, named by `name(group)`, in order of first
-    /// appearance; area counts each polygon once, power counts every side.
+    /// appearance; area counts each polygon once, power counts every side. Groups with
+    /// two-sided patches also get their front and back radiosity apart (power leaving the
+    /// polygons' fronts, resp. backs, over the same area).
     fn aggregate(
         &self,
         group: impl Fn(usize) -> usize,
         name: impl Fn(usize) -> String,
     ) -> Vec<Aggregate> {
-        let mut order: Vec<usize> = Vec::new();
-        let mut area = std::collections::HashMap::<usize, f64>::new();
-        let mut power = std::collections::HashMap::<usize, Rgb>::new();
+        /// Area (fronts), power leaving fronts and backs, and whether any patch is two-sided.
+        #[derive(Default)]
+        struct Sum {
+            area: f64,
+            front: Rgb,
+            back: Rgb,
+            two_sided: bool,
+        }
+        let mut order: Vec<String> = Vec::new();
+        let mut sums = std::collections::HashMap::<String, Sum>::new();
         for (p, patch) in self.mesh.patches.iter().enumerate() {
-            let g = group(patch.polygon as usize);
-            if !area.contains_key(&g) {
-                order.push(g);
+            // Groups that share a name are one (e.g. two materials called the same in
+            // different files).
+            let n = name(group(patch.polygon as usize));
+            if !sums.contains_key(&n) {
+                order.push(n.clone());
             }
-            let a = area.entry(g).or_default();
+            let sum = sums.entry(n).or_default();
+            sum.two_sided |= patch.two_sided;
             if !patch.back {
-                *a += patch.area;
+                sum.area += patch.area;
             }
-            let elements = self.mesh.roots[p]
+            let power: Rgb = self.mesh.roots[p]
                 .clone()
-                .map(|r| self.mesh.nodes[r as usize].elements.clone());
-            let pw = power.entry(g).or_default();
-            for range in elements {
-                for e in range {
-                    *pw += self.mesh.element(e as usize).face.area()
-                        * self.solution.radiosity[e as usize];
-                }
-            }
-        }
-        // Merge groups that share a name (e.g. two materials called the same in different files).
-        let mut merged: Vec<Aggregate> = Vec::new();
-        for g in order {
-            let n = name(g);
-            let (a, pw) = (area[&g], power[&g]);
-            if let Some(m) = merged.iter_mut().find(|m| m.name == n) {
-                let total = m.area + a;
-                let sum = Rgb::from_array(m.radiosity) * m.area + pw;
-                m.area = total;
-                m.radiosity = (sum / total.max(f64::MIN_POSITIVE)).to_array();
+                .flat_map(|r| self.mesh.nodes[r as usize].elements.clone())
+                .map(|e| {
+                    self.mesh.element(e as usize).face.area() * self.solution.radiosity[e as usize]
+                })
+                .sum();
+            if patch.back {
+                sum.back += power;
             } else {
-                merged.push(Aggregate {
-                    name: n,
-                    area: a,
-                    radiosity: (pw / a.max(f64::MIN_POSITIVE)).to_array(),
-                });
+                sum.front += power;
             }
         }
-        merged
+        order
+            .into_iter()
+            .map(|n| {
+                let sum = &sums[&n];
+                let per_area = |power: Rgb| (power / sum.area.max(f64::MIN_POSITIVE)).to_array();
+                Aggregate {
+                    area: sum.area,
+                    radiosity: per_area(sum.front + sum.back),
+                    front: sum.two_sided.then(|| per_area(sum.front)),
+                    back: sum.two_sided.then(|| per_area(sum.back)),
+                    name: n,
+                }
+            })
+            .collect()
     }
 }

@@ -6,7 +6,8 @@
 //!   "timings": { "load": 0.001, "mesh": 0.01, "form_factors": 1.2, "solve": 0.1,
 //!                "render": 0.2, "total": 1.5 },
 //!   "energy": { "emitted": [r, g, b], "absorbed": [r, g, b] },
-//!   "objects": [ { "name": "floor", "area": 309.4e3, "radiosity": [r, g, b] } ],
+//!   "objects": [ { "name": "floor", "area": 309.4e3, "radiosity": [r, g, b] },
+//!                { "name": "sheet", "area": 1.0, "radiosity": [..], "front": [..], "back": [..] } ],
 //!   "materials": [ { "name": "white", "area": ..., "radiosity": [r, g, b] } ],
 //!   "hierarchy": { "links": 52000, "levels": 7, "clusters": 15, "peak_memory_bytes": 4e6 } }
 //! ```
@@ -15,7 +16,8 @@
 //! radiosity in W·m⁻². An object's `area` is its geometric area (a two-sided polygon counts
 //! once) and its `radiosity` is the power leaving all its sides divided by that area — the
 //! area-weighted mean B of a one-sided object, and for a two-sided sheet lit from one side the
-//! mean B of the lit side.
+//! mean B of the lit side. Objects with two-sided polygons also carry `front` and `back`, the
+//! power leaving each side over the same area (so `radiosity = front + back`).
 
 use serde::Serialize;
 
@@ -102,4 +104,11 @@ pub struct Aggregate {
     pub area: f64,
     /// Leaving power per unit area (W·m⁻²), per channel.
     pub radiosity: [f64; 3],
+    /// For groups with two-sided polygons: the power leaving their fronts per unit area (the
+    /// mean B of the front sides); `radiosity` is `front + back`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub front: Option<[f64; 3]>,
+    /// For groups with two-sided polygons: the same for their backs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub back: Option<[f64; 3]>,
 }

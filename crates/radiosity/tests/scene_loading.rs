@@ -152,6 +152,31 @@ fn bare_obj_scene_has_groups_two_sided_materials_and_a_framed_camera() {
 }
 
 #[test]
+fn coincident_duplicate_faces_are_dropped_with_one_warning_naming_the_line() {
+    // A block side face repeated as its "bottom" (same corners, here also reversed: a bare OBJ
+    // is two-sided, so orientation does not make it a different surface), then once more.
+    let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
+o side\nf 1 2 3 4\no bottom\nf 2 3 4 1\nf 4 3 2 1\no lamp\nv 0 0 1\nv 1 0 1\nv 1 1 1\nf 5 6 7\n";
+    let dir = temp_dir("duplicates");
+    std::fs::write(dir.join("d.obj"), obj).unwrap();
+    let scene = Scene::load(&dir.join("d.obj")).unwrap();
+    assert_eq!(scene.polygons.len(), 2, "{:?}", scene.polygons);
+    let warning: Vec<&String> = scene
+        .warnings
+        .iter()
+        .filter(|w| w.contains("coincident"))
+        .collect();
+    assert_eq!(warning.len(), 1, "{:?}", scene.warnings);
+    assert!(
+        warning[0].contains("d.obj")
+            && warning[0].contains("dropped 2")
+            && warning[0].contains("line 8"),
+        "{}",
+        warning[0]
+    );
+}
+
+#[test]
 fn missing_mtl_and_unknown_material_fall_back_with_warnings() {
     let dir = temp_dir("nomtl");
     std::fs::write(dir.join("m.obj"), OBJ).unwrap();

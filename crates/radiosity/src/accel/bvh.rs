@@ -442,6 +442,33 @@ impl Bvh {
         })
     }
 
+    /// Calls `visit` with the original index of every triangle whose box overlaps `query`
+    /// (boundaries included), in no particular order: a broad phase for geometric queries.
+    pub fn overlapping(&self, query: &Aabb, mut visit: impl FnMut(usize)) {
+        if self.tris.is_empty() {
+            return;
+        }
+        let overlaps = |b: &Aabb| query.min.cmple(b.max).all() && b.min.cmple(query.max).all();
+        let mut stack = vec![self.root];
+        while let Some(cur) = stack.pop() {
+            if is_leaf(cur) {
+                let (first, count) = leaf_range(cur);
+                for k in first..first + count {
+                    if overlaps(&Aabb::from_points(&self.tris[k].vertices())) {
+                        visit(self.ids[k] as usize);
+                    }
+                }
+                continue;
+            }
+            let node = &self.nodes[cur as usize];
+            for k in 0..WIDTH {
+                if node.child[k] != EMPTY_CHILD && overlaps(&node.child_box(k)) {
+                    stack.push(node.child[k]);
+                }
+            }
+        }
+    }
+
     /// Checks every structural invariant: child boxes inside their parent's, each node reached
     /// once, leaf ranges in bounds and non-overlapping, every triangle referenced exactly once
     /// and inside its leaf's box, the depth within the traversal stack, and the original
@@ -586,6 +613,38 @@ mod tests {
             assert!(is_leaf(r));
             assert_ne!(r, EMPTY_CHILD);
             assert_eq!(leaf_range(r), (first, count));
+        }
+    }
+
+    #[test]
+    fn box_query_finds_exactly_the_overlapping_triangles() {
+        let tris: Vec<[Vec3; 3]> = (0..3000u32)
+            .map(|i| {
+                let h = |k: u32| ((i.wrapping_mul(2_654_435_761) >> k) & 1023) as f32 / 64.0;
+                let o = Vec3::new(h(0), h(7), h(13));
+                [
+                    o,
+                    o + Vec3::new(0.3, 0.0, 0.1),
+                    o + Vec3::new(0.0, 0.2, 0.4),
+                ]
+            })
+            .collect();
+        let bvh = Bvh::build(&tris);
+        for (lo, hi) in [(0.0, 3.0), (5.0, 5.5), (15.0, 16.0), (-2.0, -1.0)] {
+            let query = Aabb {
+                min: Vec3::splat(lo),
+                max: Vec3::new(hi, hi + 2.0, hi),
+            };
+            let mut found = Vec::new();
+            bvh.overlapping(&query, |t| found.push(t));
+            found.sort_unstable();
+            let expected: Vec<usize> = (0..tris.len())
+                .filter(|&t| {
+                    let b = Aabb::from_points(&tris[t]);
+                    query.min.cmple(b.max).all() && b.min.cmple(query.max).all()
+                })
+                .collect();
+            assert_eq!(found, expected);
         }
     }
 

@@ -3,6 +3,15 @@
 //! Each polygon gives one patch for its front. A `two_sided` material gives a second patch for
 //! the back (the same corners in reverse order, so its "front" is the polygon's back), which
 //! reflects with the same ρ but never emits: emission is from the front only (DESIGN.md §2).
+//!
+//! A patch is planar. Files made by modelling tools are full of quads a little out of plane
+//! (the published Cornell box's left wall by 0.1 %, walls "as exported" by 1–2 %); a quadtree of
+//! bilinear faces over such a quad is not the surface rays see (two triangles), so points of one
+//! side sit behind the other side's triangles, and the front and back twins of a two-sided
+//! polygon face each other across the fold and trade light through it. So a polygon whose
+//! corners stray from its mean plane by more than [`PLANAR_TOLERANCE`] of its diameter is cut
+//! into triangles (the quad along its first diagonal, as path tracers fan it), each its own
+//! planar patch with its own normal, and those triangles are exactly what rays hit.
 
 use glam::Vec3;
 
@@ -33,40 +42,125 @@ pub struct Patch {
     pub emission: Rgb,
 }
 
+/// How far (relative to its diameter) a polygon's corners may stray from its mean plane for it
+/// to stay one patch: well above f32 rounding, well below anything that changes light.
+pub const PLANAR_TOLERANCE: f32 = 1e-4;
+
 /// The patches of `scene` with the root faces of each patch's element quadtree.
 pub(super) fn patches(scene: &Scene) -> Vec<(Patch, Vec<Face>)> {
     let mut out = Vec::with_capacity(scene.polygons.len());
+    let enclosed = enclosed_objects(scene);
     for (i, polygon) in scene.polygons.iter().enumerate() {
         let material = &scene.materials[polygon.material];
-        let normal = model::polymesh::vector_area(&polygon.vertices).normalize_or_zero();
-        let roots = root_faces(&polygon.vertices, normal);
-        let area = roots.iter().map(Face::area).sum();
-        let front = Patch {
-            polygon: i as u32,
-            object: polygon.object as u32,
-            material: polygon.material as u32,
-            back: false,
-            two_sided: material.two_sided,
-            normal,
-            area,
-            reflectance: material.reflectance,
-            emission: material.emission * std::f64::consts::PI,
-        };
-        if material.two_sided {
-            let back = Patch {
-                back: true,
-                normal: -normal,
-                emission: Rgb::ZERO,
-                ..front.clone()
+        let two_sided = material.two_sided && !enclosed[polygon.object];
+        for (normal, roots) in planar_pieces(&polygon.vertices) {
+            let area = roots.iter().map(Face::area).sum();
+            let front = Patch {
+                polygon: i as u32,
+                object: polygon.object as u32,
+                material: polygon.material as u32,
+                back: false,
+                two_sided,
+                normal,
+                area,
+                reflectance: material.reflectance,
+                emission: material.emission * std::f64::consts::PI,
             };
-            let reversed = roots.iter().map(reverse).collect();
-            out.push((front, roots));
-            out.push((back, reversed));
-        } else {
-            out.push((front, roots));
+            if two_sided {
+                let back = Patch {
+                    back: true,
+                    normal: -normal,
+                    emission: Rgb::ZERO,
+                    ..front.clone()
+                };
+                let reversed = roots.iter().map(reverse).collect();
+                out.push((front, roots));
+                out.push((back, reversed));
+            } else {
+                out.push((front, roots));
+            }
         }
     }
     out
+}
+
+/// For every object: whether its polygons close a surface around a volume, facing outward.
+///
+/// The back sides of such an object's two-sided polygons face into the volume, which no light
+/// can reach through the surface; a solver given them anyway can only err (a cluster model
+/// pushing light onto them, a straddling element leaking into them: a two-sided scanned mesh
+/// in a box came out 40 % too bright). So they are not made: a closed two-sided object is its
+/// outward side. Closed means every directed edge (exact corner positions) is met once in each
+/// direction, so the surface is watertight and consistently oriented; outward means its
+/// signed volume Σ a·(b × c)/6 over a fan of each polygon is positive. Emitting objects are
+/// left alone.
+fn enclosed_objects(scene: &Scene) -> Vec<bool> {
+    use std::collections::HashMap;
+    let key = |v: Vec3| v.to_array().map(|x| (x + 0.0).to_bits());
+    /// An undirected edge by its corners' bit patterns, smaller first.
+    type Edge = ([u32; 3], [u32; 3]);
+    let mut edges: Vec<HashMap<Edge, i32>> = vec![HashMap::new(); scene.objects.len()];
+    let mut volume = vec![0.0f64; scene.objects.len()];
+    let mut eligible = vec![true; scene.objects.len()];
+    for polygon in &scene.polygons {
+        let material = &scene.materials[polygon.material];
+        let o = polygon.object;
+        eligible[o] &= material.two_sided && !material.is_emitter();
+        let vs = &polygon.vertices;
+        for (k, &a) in vs.iter().enumerate() {
+            let b = vs[(k + 1) % vs.len()];
+            // +1 for a → b, −1 for b → a under one unordered key.
+            let (ka, kb) = (key(a), key(b));
+            let (lo, hi, sign) = if ka < kb { (ka, kb, 1) } else { (kb, ka, -1) };
+            *edges[o].entry((lo, hi)).or_default() += sign * 1000 + 1;
+        }
+        let a = vs[0].as_dvec3();
+        for w in vs[1..].windows(2) {
+            volume[o] += a.dot(w[0].as_dvec3().cross(w[1].as_dvec3())) / 6.0;
+        }
+    }
+    (0..scene.objects.len())
+        .map(|o| {
+            // Once in each direction: the sum is (+1000 + 1) + (−1000 + 1) = 2.
+            eligible[o]
+                && !edges[o].is_empty()
+                && edges[o].values().all(|&c| c == 2)
+                && volume[o] > 0.0
+        })
+        .collect()
+}
+
+/// The polygon as planar pieces, each with its unit normal and root faces: the whole polygon
+/// when it is planar (see [`PLANAR_TOLERANCE`]), else one piece per triangle.
+fn planar_pieces(vertices: &[Vec3]) -> Vec<(Vec3, Vec<Face>)> {
+    let normal = model::polymesh::vector_area(vertices).normalize_or_zero();
+    if is_planar(vertices, normal) {
+        return vec![(normal, root_faces(vertices, normal))];
+    }
+    let triangles = match *vertices {
+        [a, b, c, d] if is_convex(vertices, normal) => {
+            vec![Face::triangle(a, b, c), Face::triangle(a, c, d)]
+        }
+        _ => root_faces(vertices, normal),
+    };
+    triangles
+        .into_iter()
+        .filter(|t| t.area() > 0.0)
+        .map(|t| (t.normal(), vec![t]))
+        .collect()
+}
+
+/// Whether every corner lies within [`PLANAR_TOLERANCE`] of the polygon's diameter from the
+/// plane through the corners' mean with the polygon's (Newell) normal.
+fn is_planar(vertices: &[Vec3], normal: Vec3) -> bool {
+    let mean = vertices.iter().sum::<Vec3>() / vertices.len() as f32;
+    let diameter = vertices
+        .iter()
+        .flat_map(|a| vertices.iter().map(move |b| a.distance(*b)))
+        .fold(0.0f32, f32::max);
+    vertices
+        .iter()
+        .all(|v| normal.dot(*v - mean).abs() <= PLANAR_TOLERANCE * diameter)
 }
 
 /// The same face seen from the other side.
@@ -138,6 +232,29 @@ mod tests {
             assert!(f.normal().dot(Vec3::Z) > 0.999);
             assert!((f.area() - 1.0).abs() < 1e-5);
         }
+    }
+
+    #[test]
+    fn non_planar_quad_becomes_two_planar_triangles_planar_quad_stays() {
+        let (a, b, c, d) = (
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.02),
+            Vec3::new(0.0, 1.0, 0.0),
+        );
+        let pieces = planar_pieces(&[a, b, c, d]);
+        assert_eq!(pieces.len(), 2);
+        for (normal, roots) in &pieces {
+            assert_eq!(roots.len(), 1);
+            assert!(!roots[0].is_quad());
+            assert!((roots[0].normal() - *normal).length() < 1e-6);
+        }
+        // The first diagonal a–c, as the triangles rays hit and path tracers fan.
+        assert_eq!(pieces[0].1[0].corners(), &[a, b, c]);
+        assert_eq!(pieces[1].1[0].corners(), &[a, c, d]);
+        let flat = planar_pieces(&[a, b, Vec3::new(1.0, 1.0, 0.00001), d]);
+        assert_eq!(flat.len(), 1);
+        assert!(flat[0].1[0].is_quad());
     }
 
     #[test]

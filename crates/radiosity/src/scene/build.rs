@@ -261,7 +261,7 @@ fn build_polygon(
         vs.reverse();
     }
     // Repeated corners are dropped and a strongly non-planar polygon is fanned, with a warning.
-    b.add_faces(std::iter::once((vs, material, object)), label);
+    b.add_faces(std::iter::once((vs, material, object, None)), label);
 }
 
 /// An OBJ file as the faces of one object, with its own materials unless `material` is given.
@@ -333,6 +333,8 @@ struct Builder {
     objects: HashMap<String, usize>,
     /// Meshes of objects reused by `instance` shapes, built once and shared.
     prototypes: HashMap<String, Arc<PolyMesh>>,
+    /// Corner keys ([`corner_key`]) of the faces added so far, to drop coincident duplicates.
+    corner_sets: std::collections::HashSet<Vec<[u32; 3]>>,
 }
 
 impl Builder {
@@ -355,6 +357,7 @@ impl Builder {
             },
             objects: HashMap::new(),
             prototypes: HashMap::new(),
+            corner_sets: std::collections::HashSet::new(),
         }
     }
 
@@ -396,7 +399,7 @@ impl Builder {
     ) {
         mesh.transform(t);
         let faces = (0..mesh.faces.len()).map(|f| mesh.face_positions(f));
-        self.add_faces(faces.map(|f| (f, material, object)), label);
+        self.add_faces(faces.map(|f| (f, material, object, None)), label);
     }
 
     /// Faces of an OBJ file, transformed and checked; `assign` gives each face its material
@@ -414,19 +417,36 @@ impl Builder {
                 vs.reverse();
             }
             let (material, object) = assign(f);
-            (vs, material, object)
+            (vs, material, object, Some(f.line))
         });
         self.add_faces(faces, label);
     }
 
-    /// Adds faces, skipping degenerate ones and fanning strongly non-planar ones, with a
-    /// warning for each kind.
-    fn add_faces(&mut self, faces: impl Iterator<Item = (Vec<Vec3>, usize, usize)>, label: &str) {
+    /// Adds faces (with the file line they come from, if any), skipping degenerate ones,
+    /// fanning strongly non-planar ones and dropping coincident duplicates, with a warning for
+    /// each kind.
+    ///
+    /// A duplicate is a face with exactly the corners of one added before, in the same cyclic
+    /// order (in either orientation when its material is two-sided: two opposite one-sided faces
+    /// are a legitimate two-sided sheet, as our own GLB export writes them): downloaded OBJ files have them (the widespread Cornell-box OBJ repeats a
+    /// side face of each block as its "bottom"), and two coincident surfaces would each hide
+    /// the other's lifted ray ends and shade as one z-fighting face.
+    fn add_faces(
+        &mut self,
+        faces: impl Iterator<Item = (Vec<Vec3>, usize, usize, Option<usize>)>,
+        label: &str,
+    ) {
         let (mut skipped, mut split) = (0usize, 0usize);
-        for (mut vs, material, object) in faces {
+        let mut duplicates: Vec<Option<usize>> = Vec::new();
+        for (mut vs, material, object, line) in faces {
             vs.dedup();
             if vs.len() > 1 && vs.first() == vs.last() {
                 vs.pop();
+            }
+            let two_sided = self.scene.materials[material].two_sided;
+            if vs.len() >= 3 && !self.corner_sets.insert(corner_key(&vs, two_sided)) {
+                duplicates.push(line);
+                continue;
             }
             let pieces = match polygon_problem(&vs) {
                 None => vec![vs],
@@ -460,6 +480,13 @@ impl Builder {
                 "{label}: split {split} non-planar face(s) into triangles"
             ));
         }
+        if let Some(first) = duplicates.first() {
+            let at = first.map_or(String::new(), |l| format!(" (first at line {l})"));
+            self.scene.warnings.push(format!(
+                "{label}: dropped {} face(s) coincident with an earlier face{at}",
+                duplicates.len()
+            ));
+        }
     }
 
     /// The finished scene: at least one polygon, and a camera (framed if none was given).
@@ -487,6 +514,29 @@ impl Builder {
         self.scene.render = render;
         Ok(self.scene)
     }
+}
+
+/// The corners of a face as exact bit patterns in a canonical cyclic order (starting at the
+/// smallest), and for `unoriented` faces the smaller of the two orientations: equal keys are
+/// coincident faces.
+fn corner_key(vs: &[Vec3], unoriented: bool) -> Vec<[u32; 3]> {
+    let bits: Vec<[u32; 3]> = vs
+        .iter()
+        .map(|v| v.to_array().map(|x| (x + 0.0).to_bits()))
+        .collect();
+    let canonical = |ring: Vec<[u32; 3]>| {
+        let first = (0..ring.len()).min_by_key(|&i| ring[i]).unwrap_or(0);
+        let mut out = ring;
+        out.rotate_left(first);
+        out
+    };
+    let forward = canonical(bits.clone());
+    if !unoriented {
+        return forward;
+    }
+    let mut reversed = bits;
+    reversed.reverse();
+    forward.min(canonical(reversed))
 }
 
 /// Default chordal tolerance of curved shapes, as a fraction of the control net's diagonal.

@@ -1,0 +1,170 @@
+//! Contact refinement: elements crossed by another surface are split finer.
+//!
+//! Where a solid stands on a floor, or a partition meets a ceiling, the floor's elements
+//! straddle the contact line: part of each lies in the open, part under the solid or on the
+//! partition's dark side. Constant radiosity per element averages the two (the classic light
+//! leak of non-conforming meshes, Baum, Mann, Smith & Winget 1991): such an element shines its
+//! lit half's light into the dark side, and darkens the solid's faces next to the contact. The
+//! exact cure is to mesh along the contact line (a D⁰ discontinuity, Heckbert 1992); within a
+//! quadtree the next best is to split the straddling elements [`CONTACT_LEVELS`] levels deeper,
+//! so the straddling area, and with it the leak, shrinks as 2^−levels of the element size and
+//! keeps falling under uniform refinement.
+//!
+//! A leaf *touches* another polygon's triangle when the segment where the triangle crosses the
+//! leaf's plane passes through the leaf's interior (by more than a relative tolerance from its
+//! boundary): a solid standing on the floor touches the floor's elements along its footprint,
+//! but a wall meeting the floor at the floor's edge touches nothing, and neither do coplanar
+//! neighbours.
+
+use glam::Vec3;
+
+use super::{Mesh, MAX_LEVEL};
+use crate::accel::{Aabb, Bvh};
+
+/// Extra quadtree levels for elements that a contact line crosses (each level halves the
+/// straddling strip's width).
+pub const CONTACT_LEVELS: u8 = 3;
+
+/// Relative tolerance of the contact test, as a fraction of the leaf's diameter.
+const TOLERANCE: f32 = 1e-4;
+
+impl Mesh {
+    /// Splits every element that another polygon's triangle crosses (see the module docs), and
+    /// its crossed children, down to `CONTACT_LEVELS` more levels (or [`MAX_LEVEL`]).
+    pub fn refine_contacts(&mut self) {
+        if self.triangles.is_empty() {
+            return;
+        }
+        let bvh = Bvh::build(&self.triangles);
+        let mut depth_left: Vec<(u32, u8)> =
+            self.elements.iter().map(|&n| (n, CONTACT_LEVELS)).collect();
+        while !depth_left.is_empty() {
+            let split: Vec<(u32, u8)> = depth_left
+                .iter()
+                .copied()
+                .filter(|&(n, left)| {
+                    left > 0 && self.nodes[n as usize].level < MAX_LEVEL && self.touched(&bvh, n)
+                })
+                .collect();
+            if split.is_empty() {
+                break;
+            }
+            let leaves: Vec<u32> = split.iter().map(|&(n, _)| n).collect();
+            self.refine(&leaves);
+            depth_left = split
+                .iter()
+                .flat_map(|&(n, left)| {
+                    let c = self.nodes[n as usize].children.expect("just split");
+                    (c..c + 4).map(move |k| (k, left - 1))
+                })
+                .collect();
+        }
+    }
+
+    /// Whether a triangle of another polygon crosses node `n`'s face through its interior.
+    fn touched(&self, bvh: &Bvh, n: u32) -> bool {
+        let node = &self.nodes[n as usize];
+        let patch = &self.patches[node.patch as usize];
+        let corners = node.face.corners();
+        let eps = TOLERANCE * node.face.diameter();
+        let mut query = Aabb::from_points(corners);
+        query.min -= Vec3::splat(eps);
+        query.max += Vec3::splat(eps);
+        let mut hit = false;
+        bvh.overlapping(&query, |t| {
+            if !hit && self.triangle_polygon[t] != patch.polygon {
+                hit = crosses(corners, patch.normal, &self.triangles[t], eps);
+            }
+        });
+        hit
+    }
+}
+
+/// Whether `triangle` crosses the planar convex polygon `corners` (unit normal `normal`) along
+/// a segment that enters its interior by more than `eps`.
+fn crosses(corners: &[Vec3], normal: Vec3, triangle: &[Vec3; 3], eps: f32) -> bool {
+    // Signed heights of the triangle's corners over the polygon's plane.
+    let origin = corners[0];
+    let d = triangle.map(|v| normal.dot(v - origin));
+    if d.iter().all(|&h| h > eps) || d.iter().all(|&h| h < -eps) {
+        return false;
+    }
+    if d.iter().all(|&h| h.abs() <= eps) {
+        return false; // coplanar: a neighbour, not a contact
+    }
+    // The points of the triangle on the plane: corners on it, and edge crossings.
+    let mut on: Vec<Vec3> = Vec::with_capacity(3);
+    for k in 0..3 {
+        let (a, b) = (triangle[k], triangle[(k + 1) % 3]);
+        let (da, db) = (d[k], d[(k + 1) % 3]);
+        if da.abs() <= eps {
+            on.push(a);
+        } else if db.abs() > eps && (da > 0.0) != (db > 0.0) {
+            on.push(a + (b - a) * (da / (da - db)));
+        }
+    }
+    let (Some(&p), Some(&q)) = (on.first(), on.last()) else {
+        return false;
+    };
+    // Clip the segment p–q against the polygon shrunk by eps (Cyrus–Beck).
+    let (mut t0, mut t1) = (0.0f32, 1.0f32);
+    for k in 0..corners.len() {
+        let (a, b) = (corners[k], corners[(k + 1) % corners.len()]);
+        let inward = normal.cross(b - a).normalize_or_zero();
+        let (hp, hq) = (inward.dot(p - a) - eps, inward.dot(q - a) - eps);
+        if hp < 0.0 && hq < 0.0 {
+            return false;
+        }
+        if hp < 0.0 {
+            t0 = t0.max(hp / (hp - hq));
+        } else if hq < 0.0 {
+            t1 = t1.min(hp / (hp - hq));
+        }
+    }
+    t0 < t1 || (t0 <= t1 && p.distance(q) <= eps)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square() -> [Vec3; 4] {
+        [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ]
+    }
+
+    #[test]
+    fn wall_standing_inside_crosses_wall_at_the_edge_does_not() {
+        let eps = 1e-4;
+        // A vertical triangle whose bottom edge lies on the square's interior.
+        let inside = [
+            Vec3::new(0.2, 0.5, 0.0),
+            Vec3::new(0.8, 0.5, 0.0),
+            Vec3::new(0.5, 0.5, 1.0),
+        ];
+        assert!(crosses(&square(), Vec3::Z, &inside, eps));
+        // The same along the square's edge y = 0: a corner, not a contact.
+        let edge = [
+            Vec3::new(0.2, 0.0, 0.0),
+            Vec3::new(0.8, 0.0, 0.0),
+            Vec3::new(0.5, 0.0, 1.0),
+        ];
+        assert!(!crosses(&square(), Vec3::Z, &edge, eps));
+        // Coplanar, and wholly above.
+        let flat = [Vec3::new(0.5, 0.5, 0.0), Vec3::new(2.0, 0.5, 0.0), Vec3::Y];
+        assert!(!crosses(&square(), Vec3::Z, &flat, eps));
+        let above = inside.map(|v| v + Vec3::Z * 0.01);
+        assert!(!crosses(&square(), Vec3::Z, &above, eps));
+        // Piercing through the plane, outside the square.
+        let outside = [
+            Vec3::new(2.0, 0.5, -1.0),
+            Vec3::new(3.0, 0.5, -1.0),
+            Vec3::new(2.5, 0.5, 1.0),
+        ];
+        assert!(!crosses(&square(), Vec3::Z, &outside, eps));
+    }
+}
