@@ -634,7 +634,7 @@ def check(args):
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("scenes", nargs="*", help=f"any of {', '.join(SCENES)} (default: all)")
-    p.add_argument("--budget", type=float, default=270.0, help="seconds per scene (after pilot)")
+    p.add_argument("--budget", type=float, default=140.0, help="seconds per scene (after pilot)")
     p.add_argument("--target", type=float, default=0.002, help="relative standard error")
     p.add_argument("--wavefront", type=int, default=1 << 20, help="samples per launch")
     p.add_argument("--pilot", type=int, default=4, help="evenly split pilot launches")
