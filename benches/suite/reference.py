@@ -182,9 +182,18 @@ def read_obj(path):
 
 
 def load_obj_scene(path):
+    """A bare OBJ scene: every material two-sided. A face with exactly the corners of an earlier
+    face (in any order: two-sided) is the same surface written twice, a defect of the file (the
+    widespread Cornell-box OBJ repeats a block's side face as its bottom); it is dropped, so the
+    reference is the scene the file means, not a z-fighting double surface."""
     faces, mats = read_obj(path)
     objs = Objects()
+    seen = set()
     for group, material, poly in faces:
+        key = tuple(sorted(tuple(c) for c in poly))
+        if key in seen:
+            continue
+        seen.add(key)
         m = mats.get(material, {"Kd": (0.5, 0.5, 0.5), "Ke": (0.0, 0.0, 0.0)})
         objs.add(group, [poly], m["Kd"], m["Ke"], True)
     return objs.finish()

@@ -116,12 +116,7 @@ pub fn solve_controlled(
     if elements * BYTES_PER_ELEMENT > limit as f64 {
         return Err(PipelineError::TooManyElements { elements, limit });
     }
-    if settings.method.is_none()
-        && (!gathering_fits(roots, elements, limit)
-            || (roots > MANY_ROOTS
-                && settings.subdivision == Subdivision::default()
-                && !control.uses_checkpoints()))
-    {
+    if settings.method.is_none() && !gathering_fits(roots, elements, limit) {
         return hierarchical(scene);
     }
     progress.start("meshing", 3);
@@ -226,16 +221,6 @@ fn solve_hierarchical(
     })
 }
 
-/// Root faces beyond which the automatic choice is hierarchical radiosity even when a matrix
-/// would fit (unless a subdivision or checkpoints were asked for). Measured (2 cores): the
-/// teapot scene (2 096 root faces) solves hierarchically in 1.5 s against Gauss-Seidel's 2.0 s
-/// at the default 4 096 elements, which are then so coarse under the teapot that its shadow is
-/// missed and the floor comes out 27 % too bright (hierarchical: within 3.5 % of every object
-/// of Gauss-Seidel at 16 422 elements, which takes 21 s); cornell-spheres (2 569) 0.56 s
-/// against 6.7 s, objects within 0.9 %. The Cornell box (19) stays with Gauss-Seidel, 0.4 %
-/// from the Mitsuba reference against hierarchical's 1.1 %.
-const MANY_ROOTS: usize = 1000;
-
 /// Fewest sources the automatic choice accepts for gathering before it turns to progressive
 /// refinement: with 1024 sources the Cornell box's object means stay within 1 % of the
 /// element-to-element solution (3792 elements; 256 sources are 3 % off).
@@ -247,6 +232,11 @@ const MIN_GATHER_SOURCES: usize = 1024;
 /// radiosity, which needs no matrix: measured on the Cornell box with an 82k-triangle sphere,
 /// Gauss-Seidel refuses (25 GiB) while hierarchical solves in 15 s and 174 MB
 /// (docs/hierarchical.md).
+///
+/// Hierarchical radiosity is taken only then, not merely because a scene has many root faces:
+/// measured against the Mitsuba references of `benches/suite` (docs/validation.md), its cluster
+/// model pushes light onto the far sides of two-sided surfaces (a bare OBJ room's ceiling came
+/// out 56 % dark) and leaves a closed mesh 3 % off, where Gauss-Seidel is within 1 %.
 fn gathering_fits(roots: usize, elements: f64, limit: u64) -> bool {
     let sources = (MIN_GATHER_SOURCES as f64).min(elements).max(roots as f64);
     elements * sources * std::mem::size_of::<f32>() as f64 <= limit as f64

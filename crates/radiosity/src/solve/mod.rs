@@ -125,7 +125,7 @@ impl Default for Settings {
             tolerance: 1e-4,
             max_iterations: 100_000,
             max_matrix_bytes: 1 << 30,
-            max_sources: 4096,
+            max_sources: 8192,
             epsilon: DEFAULT_EPSILON,
             min_element_area: 0.0,
         }
