@@ -20,7 +20,9 @@ use model::{PolyMesh, Transform};
 
 use super::description::{Field, ObjectDesc, SceneDesc, ShapeDesc};
 use super::validate::{polygon_problem, PolygonProblem};
-use super::{builtin, frame, parse, validate, Camera, Material, Object, Polygon, Scene};
+use super::{
+    builtin, frame, near_emitters, parse, validate, Camera, Material, Object, Polygon, Scene,
+};
 use super::{Loc, RenderDefaults, SceneError};
 use crate::io::gltf_import;
 use crate::io::obj::{self, ObjFile};
@@ -506,6 +508,8 @@ impl Builder {
                 self.file.display()
             ));
         }
+        let near = near_emitters::warnings(&self.scene, &self.file.display().to_string());
+        self.scene.warnings.extend(near);
         self.scene.cameras = if cameras.is_empty() {
             vec![frame::frame(&self.scene.polygons)]
         } else {

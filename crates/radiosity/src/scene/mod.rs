@@ -11,6 +11,7 @@ pub mod builtin;
 pub mod description;
 pub mod error;
 pub mod frame;
+pub mod near_emitters;
 pub mod parse;
 pub mod validate;
 
