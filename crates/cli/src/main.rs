@@ -28,6 +28,7 @@ mod curve;
 mod hemicube;
 mod info;
 mod job;
+mod reference_suite;
 mod settings;
 mod validate;
 

@@ -47,12 +47,32 @@ use radiosity::scene::{Material, Object, Polygon};
 use radiosity::stats::{Stats, Timings};
 use radiosity::{solve, testing, Rgb, Scene};
 
+use crate::reference_suite::{self, SuiteSolver};
+
 /// `radiosity validate`.
 #[derive(Debug, Args)]
 pub struct ValidateArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Markdown)]
     pub format: Format,
+    /// Also run the reference suite of `benches/suite` (scenes made elsewhere against Mitsuba 3;
+    /// every object within 1 %).
+    #[arg(long)]
+    pub suite: bool,
+    /// The repository that holds `benches/suite` and `scenes/suite`.
+    #[arg(long, value_name = "DIR", default_value = ".")]
+    pub suite_dir: std::path::PathBuf,
+    /// Suite scenes to run (repeatable; default: all).
+    #[arg(long = "suite-scene", value_name = "NAME")]
+    pub suite_scenes: Vec<String>,
+    /// Solvers for the suite (repeatable): auto, jacobi, gauss-seidel, progressive,
+    /// hierarchical, or all [default: auto].
+    #[arg(long = "suite-solver", value_name = "NAME")]
+    pub suite_solvers: Vec<String>,
+    /// Form-factor methods for the suite (repeatable): raycast, hemicube [default: raycast].
+    /// (Analytic form factors ignore visibility; every suite scene has shadows.)
+    #[arg(long = "suite-form-factors", value_name = "NAME")]
+    pub suite_form_factors: Vec<String>,
 }
 
 /// `--format` of `validate`.
@@ -65,13 +85,13 @@ pub enum Format {
 }
 
 /// One checked quantity.
-struct Row {
-    case: String,
-    quantity: &'static str,
-    reference: f64,
-    ours: f64,
+pub(crate) struct Row {
+    pub case: String,
+    pub quantity: &'static str,
+    pub reference: f64,
+    pub ours: f64,
     /// Largest accepted relative error.
-    tolerance: f64,
+    pub tolerance: f64,
 }
 
 impl Row {
@@ -86,7 +106,33 @@ impl Row {
 
 /// Runs the suite and prints the table; fails when a case is out of tolerance.
 pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
-    let rows = suite()?;
+    let mut rows = suite()?;
+    if args.suite {
+        let solvers = if args.suite_solvers.iter().any(|s| s == "all") {
+            SuiteSolver::all()
+        } else if args.suite_solvers.is_empty() {
+            vec![SuiteSolver::Auto]
+        } else {
+            args.suite_solvers
+                .iter()
+                .map(|s| s.parse().map_err(|e: String| anyhow::anyhow!(e)))
+                .collect::<anyhow::Result<_>>()?
+        };
+        let form_factors = if args.suite_form_factors.is_empty() {
+            vec![formfactor::Method::RayCast]
+        } else {
+            args.suite_form_factors
+                .iter()
+                .map(|s| s.parse::<formfactor::Method>().map_err(anyhow::Error::from))
+                .collect::<anyhow::Result<_>>()?
+        };
+        rows.extend(reference_suite::rows(
+            &args.suite_dir,
+            &args.suite_scenes,
+            &solvers,
+            &form_factors,
+        )?);
+    }
     let mut out = std::io::stdout().lock();
     match args.format {
         Format::Json => {
@@ -254,7 +300,7 @@ fn cornell() -> anyhow::Result<Vec<Row>> {
 }
 
 /// An RGB triple from a JSON array of three numbers.
-fn rgb(values: &[serde_json::Value]) -> Option<Rgb> {
+pub(crate) fn rgb(values: &[serde_json::Value]) -> Option<Rgb> {
     match values {
         [r, g, b] => Some(Rgb::new(r.as_f64()?, g.as_f64()?, b.as_f64()?)),
         _ => None,

@@ -1,0 +1,205 @@
+//! `radiosity validate --suite`: our solvers against the Mitsuba 3 references of
+//! `benches/suite` (scenes with the traits of files made elsewhere: two-sided and non-planar
+//! walls, closed meshes, thin partitions, an emitter against a wall, a Blender-style glTF, a
+//! bare OBJ with thousands of faces, a furnished room).
+//!
+//! Each reference (`benches/suite/reference/<scene>.json`, made by
+//! `benches/suite/reference.py`) holds every object's mean radiosity B per channel with its
+//! standard error (≤ 0.2 %). For every scene and every asked (solver, form-factor method) pair
+//! the whole engine runs at its default settings, and one row reports the object and channel
+//! furthest from the reference; it passes within [`TOLERANCE`]. The files are read from the
+//! repository at run time (`--suite-dir`, default the current directory), not compiled in:
+//! the scenes are a few megabytes.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use radiosity::mesh::Subdivision;
+use radiosity::pipeline::{self, Settings};
+use radiosity::progress::Silent;
+use radiosity::stats::Timings;
+use radiosity::{formfactor, solve, Scene};
+
+use crate::validate::Row;
+
+/// Largest accepted relative error of any object's radiosity in any channel.
+pub const TOLERANCE: f64 = 0.01;
+
+/// Which solver a suite run uses: the automatic choice or one method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SuiteSolver {
+    /// The automatic choice (no `--solver`).
+    Auto,
+    /// One method.
+    Method(solve::Method),
+}
+
+impl SuiteSolver {
+    /// Every choice: the automatic one, then each method.
+    pub fn all() -> Vec<SuiteSolver> {
+        std::iter::once(SuiteSolver::Auto)
+            .chain(solve::Method::ALL.into_iter().map(SuiteSolver::Method))
+            .collect()
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            SuiteSolver::Auto => "auto",
+            SuiteSolver::Method(m) => m.name(),
+        }
+    }
+}
+
+impl std::str::FromStr for SuiteSolver {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s == "auto" {
+            return Ok(SuiteSolver::Auto);
+        }
+        s.parse::<solve::Method>()
+            .map(SuiteSolver::Method)
+            .map_err(|e| format!("{e} or auto"))
+    }
+}
+
+/// One object of a reference: its name and mean radiosity per channel.
+struct Reference {
+    name: String,
+    radiosity: [f64; 3],
+}
+
+/// The rows of the suite under `root` (the repository), for the scenes named in `only` (all when
+/// empty), every solver of `solvers` and form-factor method of `form_factors`.
+///
+/// # Errors
+/// The reference folder is missing or a reference is malformed, or a scene fails to load or
+/// solve.
+pub fn rows(
+    root: &Path,
+    only: &[String],
+    solvers: &[SuiteSolver],
+    form_factors: &[formfactor::Method],
+) -> anyhow::Result<Vec<Row>> {
+    let folder = root.join("benches").join("suite").join("reference");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&folder)
+        .map_err(|e| {
+            anyhow::anyhow!(
+                "{}: {e}: run from the repository root or give --suite-dir",
+                folder.display()
+            )
+        })?
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .filter(|p| {
+            only.is_empty()
+                || p.file_stem()
+                    .and_then(|s| s.to_str())
+                    .is_some_and(|s| only.iter().any(|o| o == s))
+        })
+        .collect();
+    files.sort();
+    anyhow::ensure!(
+        !files.is_empty(),
+        "no suite reference matches in {}",
+        folder.display()
+    );
+    let mut out = Vec::new();
+    for file in &files {
+        let (scene_path, references) = read_reference(file)?;
+        let scene_path = root.join(scene_path);
+        let label = file.file_stem().and_then(|s| s.to_str()).unwrap_or("?");
+        for &solver in solvers {
+            for &ff in form_factors {
+                let scene = Scene::load(&scene_path).map_err(|e| anyhow::anyhow!("{}", e))?;
+                out.push(worst_object(label, scene, solver, ff, &references)?);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The scene file (relative to the repository) and the objects of one reference JSON.
+fn read_reference(file: &Path) -> anyhow::Result<(PathBuf, Vec<Reference>)> {
+    let bad = |what: &str| anyhow::anyhow!("{}: {what}", file.display());
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(file)?).map_err(|e| bad(&e.to_string()))?;
+    let scene = json["scene"].as_str().ok_or_else(|| bad("no `scene`"))?;
+    let objects = json["objects"]
+        .as_array()
+        .ok_or_else(|| bad("no `objects`"))?
+        .iter()
+        .map(|o| {
+            let name = o["name"]
+                .as_str()
+                .ok_or_else(|| bad("an object without `name`"))?;
+            let rgb = o["radiosity"]
+                .as_array()
+                .and_then(|v| crate::validate::rgb(v))
+                .ok_or_else(|| bad(&format!("`{name}` has no radiosity [r, g, b]")))?;
+            Ok(Reference {
+                name: name.to_owned(),
+                radiosity: rgb.to_array(),
+            })
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    Ok((PathBuf::from(scene), objects))
+}
+
+/// Solves `scene` at the default settings with `solver` and `ff`, and the row of the object and
+/// channel furthest from its reference.
+fn worst_object(
+    label: &str,
+    scene: Scene,
+    solver: SuiteSolver,
+    ff: formfactor::Method,
+    references: &[Reference],
+) -> anyhow::Result<Row> {
+    let settings = Settings {
+        subdivision: Subdivision::default(),
+        form_factors: formfactor::Settings {
+            method: ff,
+            ..formfactor::Settings::default()
+        },
+        solve: solve::Settings::default(),
+        method: match solver {
+            SuiteSolver::Auto => None,
+            SuiteSolver::Method(m) => Some(m),
+        },
+    };
+    let start = Instant::now();
+    let stats = pipeline::solve(scene, &settings, &Silent)?.stats(&Timings::default());
+    let seconds = start.elapsed().as_secs_f64();
+    let mut worst: Option<(f64, &Reference, usize, f64)> = None;
+    for reference in references {
+        let ours = stats
+            .objects
+            .iter()
+            .find(|o| o.name == reference.name)
+            .ok_or_else(|| {
+                anyhow::anyhow!("{label}: no object `{}` in our stats", reference.name)
+            })?;
+        for c in 0..3 {
+            let error = (ours.radiosity[c] - reference.radiosity[c]).abs()
+                / reference.radiosity[c].abs().max(f64::MIN_POSITIVE);
+            if worst.is_none_or(|w| error > w.0) {
+                worst = Some((error, reference, c, ours.radiosity[c]));
+            }
+        }
+    }
+    let (_, reference, channel, ours) =
+        worst.ok_or_else(|| anyhow::anyhow!("{label}: the reference has no objects"))?;
+    Ok(Row {
+        case: format!(
+            "suite {label} ({}, {}, {seconds:.1} s): {} ({})",
+            solver.name(),
+            ff.name(),
+            reference.name,
+            ["r", "g", "b"][channel]
+        ),
+        quantity: "radiosity B of the worst object and channel (W/m²)",
+        reference: reference.radiosity[channel],
+        ours,
+        tolerance: TOLERANCE,
+    })
+}
