@@ -381,11 +381,19 @@ fn centroid_hemicube_matches_brute_force_rays_on_cornell_box() {
                 let d = u * (r * phi.cos()) + v * (r * phi.sin()) + n * (1.0 - r1).sqrt();
                 if let Some(hit) = g.bvh.closest_hit(&Ray::new(origin, d), f32::MAX) {
                     let polygon = g.mesh.triangle_polygon[hit.triangle as usize];
-                    // The patch of that polygon that faces the ray's origin.
-                    let patch = (0..patches).find(|&q| {
-                        let pa = &g.mesh.patches[q];
-                        pa.polygon == polygon && pa.normal.dot(d) < 0.0
-                    });
+                    // The patch of that polygon that faces the ray's origin and whose plane
+                    // holds the hit (a non-planar polygon is several planar patches).
+                    let point = origin + d * hit.t;
+                    let off_plane = |q: usize| {
+                        let corner = g.mesh.nodes[g.mesh.roots[q].start as usize].face.corners()[0];
+                        g.mesh.patches[q].normal.dot(point - corner).abs()
+                    };
+                    let patch = (0..patches)
+                        .filter(|&q| {
+                            let pa = &g.mesh.patches[q];
+                            pa.polygon == polygon && pa.normal.dot(d) < 0.0
+                        })
+                        .min_by(|&a, &b| off_plane(a).total_cmp(&off_plane(b)));
                     if let Some(q) = patch {
                         rays[q] += 1.0 / f64::from(m * m);
                     }

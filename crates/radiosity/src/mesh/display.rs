@@ -164,20 +164,31 @@ fn edge_points(
     }
 }
 
-/// Surface id per patch: patches of one object, on the same side, in the same plane share one.
+/// Surface id per patch: patches of one object, on the same side, in the same plane share one,
+/// and so do the planar pieces of one non-planar polygon (see [`super::patch`]), whose shared
+/// diagonal must stay crack-free too.
 fn surfaces(mesh: &Mesh) -> Vec<u32> {
+    let mut pieces: HashMap<(u32, bool), u32> = HashMap::new();
+    for p in &mesh.patches {
+        *pieces.entry((p.polygon, p.back)).or_default() += 1;
+    }
     let mut ids: HashMap<(u32, bool, IVec3, i64), u32> = HashMap::new();
     let scale = mesh_scale(mesh);
     mesh.patches
         .iter()
         .zip(&mesh.roots)
         .map(|(p, roots)| {
-            let point = mesh.nodes[roots.start as usize].face.corners()[0];
-            let normal = (p.normal * 1000.0).round().as_ivec3();
-            let offset = (f64::from(p.normal.dot(point)) / scale * 1e4).round() as i64;
+            let key = if pieces[&(p.polygon, p.back)] > 1 {
+                // The polygon's own id, in a slot no plane uses.
+                (IVec3::MAX, i64::from(p.polygon))
+            } else {
+                let point = mesh.nodes[roots.start as usize].face.corners()[0];
+                let normal = (p.normal * 1000.0).round().as_ivec3();
+                let offset = (f64::from(p.normal.dot(point)) / scale * 1e4).round() as i64;
+                (normal, offset)
+            };
             let next = ids.len() as u32;
-            *ids.entry((p.object, p.back, normal, offset))
-                .or_insert(next)
+            *ids.entry((p.object, p.back, key.0, key.1)).or_insert(next)
         })
         .collect()
 }

@@ -43,6 +43,9 @@ pub struct Cluster {
     pub area: f64,
     /// Σ A_f n_f over its faces.
     pub vector_area: glam::DVec3,
+    /// D_k = Σ A_f max(0, n_f·e_k) over its faces, for the six axis directions e_k of
+    /// [`axis_weights`]: how much of it faces each way (see [`super::push_pull`]).
+    pub facing: [f64; 6],
     /// Its faces: a range of [`Clusters::faces`].
     pub faces: Range<u32>,
     /// The two child clusters, or none for a leaf cluster (whose children are its faces).
@@ -126,10 +129,13 @@ impl Clusters {
             .iter()
             .flat_map(|i| face(i).corners().iter().copied())
             .collect();
-        let (mut area, mut vector_area) = (0.0, glam::DVec3::ZERO);
+        let (mut area, mut vector_area, mut facing) = (0.0, glam::DVec3::ZERO, [0.0; 6]);
         for i in ids {
             area += face(i).area();
             vector_area += face(i).vector_area();
+            for (d, w) in facing.iter_mut().zip(axis_weights(face(i).vector_area())) {
+                *d += w;
+            }
         }
         let index = self.nodes.len() as u32;
         self.nodes.push(Cluster {
@@ -137,6 +143,7 @@ impl Clusters {
             radius: 0.5 * (b.max - b.min).length(),
             area,
             vector_area,
+            facing,
             faces: offset as u32..(offset + ids.len()) as u32,
             children: None,
         });
@@ -240,6 +247,7 @@ impl Build<'_> {
             radius: 0.0,
             area: 0.0,
             vector_area: glam::DVec3::ZERO,
+            facing: [0.0; 6],
             faces: 0..0,
             children: None,
         });
@@ -283,6 +291,23 @@ impl Build<'_> {
         }
         index
     }
+}
+
+/// The positive parts of a vector's components along +x, −x, +y, −y, +z, −z: for a face's
+/// vector area A n, the areas it turns toward each axis direction, A max(0, n·e_k); for a unit
+/// direction ω, the weights with which max(0, n·ω) ≈ Σ_k max(0, ω·e_k) max(0, n·e_k) (exact
+/// when n or ω lies along an axis, and positive exactly when n·ω is, up to a face or direction
+/// in a coordinate plane).
+#[must_use]
+pub fn axis_weights(v: glam::DVec3) -> [f64; 6] {
+    [
+        v.x.max(0.0),
+        (-v.x).max(0.0),
+        v.y.max(0.0),
+        (-v.y).max(0.0),
+        v.z.max(0.0),
+        (-v.z).max(0.0),
+    ]
 }
 
 /// The axis (0, 1, 2) along which `points` spread the most.

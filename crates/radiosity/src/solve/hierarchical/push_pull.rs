@@ -15,13 +15,38 @@
 //! In the arenas a parent always has a smaller index than its children (nodes and clusters
 //! are appended below existing ones), so the push is one forward pass and the pull one
 //! backward pass.
+//!
+//! **Clusters are directional.** A cluster is a bag of faces turned every way: the two sides of
+//! a two-sided floor, the outside and inside of an open box. Pushing a cluster's irradiance
+//! evenly onto all of them lights faces turned away from the source, and a cluster's mean B
+//! shines the dark back sides' zero into the room and the lit fronts' light out of its back
+//! (a bare OBJ room, every face two-sided, lost half its light that way and came out 56 %
+//! too dark). So light crosses a cluster link with its direction (Sillion 1995, Smits et al.
+//! 1994 §4.2 treat clusters as directional emitters and receivers): with the six axis
+//! weights w_k(ω) = max(0, ω·e_k) and each cluster's facing areas D_k = Σ_f A_f max(0, n_f·e_k)
+//! ([`super::cluster::axis_weights`]),
+//!
+//! - a source cluster shines toward ω the mean B of the faces that face ω,
+//!   B(ω) = Σ_k w_k N_k / Σ_k w_k D_k with N_k = Σ_f A_f B_f max(0, n_f·e_k) (pulled up like
+//!   B), and nothing at all where no face faces ω;
+//! - the power Φ a receiving cluster gathers from direction ω goes to its faces in proportion
+//!   to A_f max(0, n_f·ω) ≈ A_f Σ_k w_k(ω) max(0, n_f·e_k): it accumulates
+//!   Q_k += Φ w_k / Σ_j w_j D_j, which pushes down unchanged, and a face receives the
+//!   irradiance Σ_k Q_k max(0, n_f·e_k). Energy is kept: Σ_f A_f H_f = Σ_k Q_k D_k = Φ.
+//!
+//! The direction of a link is between the centres of its two ends.
 
 use rayon::prelude::*;
 
-use super::cluster::Clusters;
+use glam::DVec3;
+
+use super::cluster::{axis_weights, Clusters};
 use super::link::{Link, CLUSTER};
 use crate::mesh::Mesh;
 use crate::Rgb;
+
+/// Six RGB values, one per axis direction (+x, −x, +y, −y, +z, −z).
+pub type Directional = [Rgb; 6];
 
 /// Radiosity and irradiance of every node and cluster.
 #[derive(Clone, Debug, Default)]
@@ -33,19 +58,26 @@ pub struct State {
     pub node_h: Vec<Rgb>,
     /// Area of every mesh node.
     pub node_area: Vec<f64>,
-    /// B of every cluster.
+    /// B of every cluster (the area-weighted mean of its faces).
     pub cluster_b: Vec<Rgb>,
-    /// Irradiance of every cluster.
+    /// N_k of every cluster: power leaving its faces weighted by how much they face e_k.
+    pub cluster_n: Vec<Directional>,
+    /// Irradiance of every cluster that no face of it faces (spread evenly).
     pub cluster_h: Vec<Rgb>,
+    /// Q_k of every cluster: directional irradiance, per unit of facing area.
+    pub cluster_q: Vec<Directional>,
 }
 
 impl State {
     /// B = E everywhere, pulled up.
     #[must_use]
     pub fn new(mesh: &Mesh, clusters: &Clusters) -> Self {
+        let n = clusters.nodes.len();
         let mut s = State {
-            cluster_b: vec![Rgb::ZERO; clusters.nodes.len()],
-            cluster_h: vec![Rgb::ZERO; clusters.nodes.len()],
+            cluster_b: vec![Rgb::ZERO; n],
+            cluster_n: vec![[Rgb::ZERO; 6]; n],
+            cluster_h: vec![Rgb::ZERO; n],
+            cluster_q: vec![[Rgb::ZERO; 6]; n],
             ..State::default()
         };
         s.grow(mesh);
@@ -78,19 +110,30 @@ impl State {
 
     /// One gather, push and pull. Returns Σ_e A_e ‖ΔB_e‖₁ over the elements.
     pub fn iterate(&mut self, mesh: &Mesh, clusters: &Clusters, links: &[Link]) -> f64 {
-        self.gather(links);
+        self.gather(mesh, clusters, links);
         // Push: clusters, then root faces, then quadtree nodes in index order.
         for c in 0..clusters.nodes.len() {
-            let down = self.cluster_h[c];
+            let (down, q) = (self.cluster_h[c], self.cluster_q[c]);
             match clusters.nodes[c].children {
                 Some([a, b]) => {
-                    self.cluster_h[a as usize] += down;
-                    self.cluster_h[b as usize] += down;
+                    for k in [a as usize, b as usize] {
+                        self.cluster_h[k] += down;
+                        for (x, y) in self.cluster_q[k].iter_mut().zip(q) {
+                            *x += y;
+                        }
+                    }
                 }
                 None => {
                     let range = clusters.nodes[c].faces.clone();
                     for &f in &clusters.faces[range.start as usize..range.end as usize] {
-                        self.node_h[f as usize] += down;
+                        let face = &mesh.nodes[f as usize].face;
+                        let per_area = 1.0 / face.area().max(f64::MIN_POSITIVE);
+                        let facing: Rgb = axis_weights(face.vector_area())
+                            .iter()
+                            .zip(q)
+                            .map(|(w, q)| q * (w * per_area))
+                            .sum();
+                        self.node_h[f as usize] += down + facing;
                     }
                 }
             }
@@ -132,10 +175,12 @@ impl State {
             .collect()
     }
 
-    /// H of every handle from its own links (links sorted by receiver).
-    fn gather(&mut self, links: &[Link]) {
+    /// H of every handle from its own links (links sorted by receiver), with the direction of
+    /// each cluster link (module docs).
+    fn gather(&mut self, mesh: &Mesh, clusters: &Clusters, links: &[Link]) {
         self.node_h.fill(Rgb::ZERO);
         self.cluster_h.fill(Rgb::ZERO);
+        self.cluster_q.fill([Rgb::ZERO; 6]);
         let mut groups = Vec::new();
         let mut start = 0;
         for i in 1..=links.len() {
@@ -144,27 +189,70 @@ impl State {
                 start = i;
             }
         }
-        let (node_b, cluster_b) = (&self.node_b, &self.cluster_b);
-        let sums: Vec<Rgb> = groups
+        let center = |h: u32| -> DVec3 {
+            if h & CLUSTER != 0 {
+                clusters.nodes[(h & !CLUSTER) as usize].center.as_dvec3()
+            } else {
+                mesh.nodes[h as usize].face.centroid().as_dvec3()
+            }
+        };
+        // Σ_k w_k X_k / Σ_k w_k D_k, or None where nothing of the cluster faces ω.
+        let toward = |c: usize, w: &[f64; 6]| {
+            let den: f64 = w
+                .iter()
+                .zip(clusters.nodes[c].facing)
+                .map(|(a, b)| a * b)
+                .sum();
+            (den > 0.0).then_some(den)
+        };
+        let (node_b, cluster_n) = (&self.node_b, &self.cluster_n);
+        let sums: Vec<(Rgb, Directional)> = groups
             .par_iter()
             .map(|g| {
-                links[g.clone()]
-                    .iter()
-                    .map(|l| {
-                        let b = if l.source & CLUSTER != 0 {
-                            cluster_b[(l.source & !CLUSTER) as usize]
-                        } else {
-                            node_b[l.source as usize]
-                        };
-                        f64::from(l.factor) * b
-                    })
-                    .sum()
+                let r = links[g.start].receiver;
+                let mut scalar = Rgb::ZERO;
+                let mut q = [Rgb::ZERO; 6];
+                for l in &links[g.clone()] {
+                    let involves_cluster = (l.source | r) & CLUSTER != 0;
+                    let out = if involves_cluster {
+                        (center(r) - center(l.source)).normalize_or_zero()
+                    } else {
+                        DVec3::ZERO
+                    };
+                    let b = if l.source & CLUSTER != 0 {
+                        let s = (l.source & !CLUSTER) as usize;
+                        let w = axis_weights(out);
+                        toward(s, &w).map_or(Rgb::ZERO, |den| {
+                            w.iter().zip(cluster_n[s]).map(|(w, n)| n * *w).sum::<Rgb>() / den
+                        })
+                    } else {
+                        node_b[l.source as usize]
+                    };
+                    let h = f64::from(l.factor) * b;
+                    if r & CLUSTER == 0 {
+                        scalar += h;
+                        continue;
+                    }
+                    let c = (r & !CLUSTER) as usize;
+                    let w = axis_weights(-out);
+                    match toward(c, &w) {
+                        Some(den) => {
+                            let power = h * clusters.nodes[c].area;
+                            for (qk, wk) in q.iter_mut().zip(w) {
+                                *qk += power * (wk / den);
+                            }
+                        }
+                        None => scalar += h,
+                    }
+                }
+                (scalar, q)
             })
             .collect();
-        for (g, h) in groups.iter().zip(sums) {
+        for (g, (h, q)) in groups.iter().zip(sums) {
             let r = links[g.start].receiver;
             if r & CLUSTER != 0 {
                 self.cluster_h[(r & !CLUSTER) as usize] = h;
+                self.cluster_q[(r & !CLUSTER) as usize] = q;
             } else {
                 self.node_h[r as usize] = h;
             }
@@ -184,19 +272,29 @@ impl State {
         }
         for c in (0..clusters.nodes.len()).rev() {
             let cluster = &clusters.nodes[c];
+            let mut n = [Rgb::ZERO; 6];
             let (sum, area): (Rgb, f64) = match cluster.children {
                 Some([a, b]) => [a, b].iter().fold((Rgb::ZERO, 0.0), |(s, w), &k| {
+                    for (x, y) in n.iter_mut().zip(self.cluster_n[k as usize]) {
+                        *x += y;
+                    }
                     let a = clusters.nodes[k as usize].area;
                     (s + a * self.cluster_b[k as usize], w + a)
                 }),
                 None => clusters.faces[cluster.faces.start as usize..cluster.faces.end as usize]
                     .iter()
                     .fold((Rgb::ZERO, 0.0), |(s, w), &f| {
+                        let b = self.node_b[f as usize];
+                        let facing = axis_weights(mesh.nodes[f as usize].face.vector_area());
+                        for (x, y) in n.iter_mut().zip(facing) {
+                            *x += b * y;
+                        }
                         let a = self.node_area[f as usize];
-                        (s + a * self.node_b[f as usize], w + a)
+                        (s + a * b, w + a)
                     }),
             };
             self.cluster_b[c] = if area > 0.0 { sum / area } else { Rgb::ZERO };
+            self.cluster_n[c] = n;
         }
     }
 }
