@@ -58,6 +58,11 @@ fn cube_power_is_emitted_over_one_minus_rho() {
             "ρ {rho}: {p} vs {expected}"
         );
         assert!(s.solution.hierarchy.unwrap().links > 0);
+        // The history is (iteration, seconds, residual), as the plot reads it: seconds never
+        // fall, and the last residual is the solution's.
+        let history = &s.solution.history;
+        assert!(history.windows(2).all(|w| w[1].1 >= w[0].1), "{history:?}");
+        assert_eq!(history.last().map(|h| h.2), Some(s.solution.residual));
     }
 }
 

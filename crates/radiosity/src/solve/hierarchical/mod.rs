@@ -94,8 +94,9 @@ pub struct Outcome {
     pub solve_seconds: f64,
     /// Links, levels and memory.
     pub stats: HierarchyStats,
-    /// (iteration, residual, seconds since the start) after every gather iteration, over all
-    /// stages: the residual jumps up where a stage's refinement changed the links.
+    /// (iteration, seconds since the start, residual) after every gather iteration, over all
+    /// stages — the order of every other solver's history and of [`crate::plot`] —: the
+    /// residual jumps up where a stage's refinement changed the links.
     pub history: Vec<(usize, f64, f64)>,
     /// Whether `control` stopped the run before it finished: the radiosity is then the last
     /// iterate on the links refined so far (push-pull keeps it consistent at every step).
@@ -229,7 +230,7 @@ pub fn run(
             out.iterations += 1;
             out.residual = change / emitted;
             out.history
-                .push((out.iterations, out.residual, began.elapsed().as_secs_f64()));
+                .push((out.iterations, began.elapsed().as_secs_f64(), out.residual));
             if out.residual < settings.tolerance {
                 break;
             }
