@@ -243,7 +243,7 @@ impl Mesh {
         if max_sources >= self.element_count() {
             return self.elements.clone();
         }
-        let mixed: Vec<bool> = self
+        let mut mixed: Vec<bool> = self
             .nodes
             .iter()
             .map(|node| {
@@ -255,6 +255,11 @@ impl Mesh {
                 levels.any(|l| Some(l) != first)
             })
             .collect();
+        // At fine subdivisions the contact lines alone may hold more leaves than the budget:
+        // then sources may straddle them again rather than overflow it.
+        if self.cut(self.total_area(), &mixed).len() > max_sources.max(1) {
+            mixed.fill(false);
+        }
         // The count falls as the threshold grows; find the smallest threshold that fits.
         let (mut lo, mut hi) = (0.0, self.total_area());
         for _ in 0..60 {
