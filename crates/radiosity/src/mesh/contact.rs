@@ -70,7 +70,12 @@ impl Mesh {
         let node = &self.nodes[n as usize];
         let patch = &self.patches[node.patch as usize];
         let corners = node.face.corners();
-        let eps = TOLERANCE * node.face.diameter();
+        // Relative to the leaf's size, and never below what f32 coordinates can resolve.
+        let magnitude = corners
+            .iter()
+            .map(|c| c.abs().max_element())
+            .fold(0.0, f32::max);
+        let eps = (TOLERANCE * node.face.diameter()).max(8.0 * f32::EPSILON * magnitude);
         let mut query = Aabb::from_points(corners);
         query.min -= Vec3::splat(COVER * eps);
         query.max += Vec3::splat(COVER * eps);
@@ -113,7 +118,12 @@ fn crosses(corners: &[Vec3], normal: Vec3, triangle: &[Vec3; 3], eps: f32) -> bo
     let (Some(&p), Some(&q)) = (on.first(), on.last()) else {
         return false;
     };
-    // Clip the segment p–q against the polygon shrunk by eps (Cyrus–Beck).
+    enters(corners, normal, p, q, eps)
+}
+
+/// Whether the segment p–q (in the polygon's plane) passes through the polygon shrunk by `eps`
+/// (Cyrus–Beck clipping against each edge's inward half-plane).
+fn enters(corners: &[Vec3], normal: Vec3, p: Vec3, q: Vec3, eps: f32) -> bool {
     let (mut t0, mut t1) = (0.0f32, 1.0f32);
     for k in 0..corners.len() {
         let (a, b) = (corners[k], corners[(k + 1) % corners.len()]);
@@ -142,29 +152,7 @@ const COVER: f32 = 100.0;
 fn covers_partly(corners: &[Vec3], normal: Vec3, triangle: &[Vec3; 3], eps: f32) -> bool {
     let origin = corners[0];
     let flat = triangle.map(|v| v - normal * normal.dot(v - origin));
-    (0..3).any(|k| {
-        let (a, b) = (flat[k], flat[(k + 1) % 3]);
-        // A degenerate triangle on the plane along the edge: the crossing test's segment case.
-        crosses(
-            corners,
-            normal,
-            &[
-                a - normal * eps * 2.0,
-                b - normal * eps * 2.0,
-                a + normal * eps * 2.0,
-            ],
-            eps,
-        ) || crosses(
-            corners,
-            normal,
-            &[
-                b - normal * eps * 2.0,
-                b + normal * eps * 2.0,
-                a + normal * eps * 2.0,
-            ],
-            eps,
-        )
-    })
+    (0..3).any(|k| enters(corners, normal, flat[k], flat[(k + 1) % 3], eps))
 }
 
 #[cfg(test)]

@@ -577,8 +577,13 @@ mod tests {
                 .collect();
             assert!(levels.windows(2).all(|w| w[0] == w[1]));
         }
-        // Sources: a coarse cut, but every node with leaves at several levels is opened.
-        let sources = mesh.sources(40);
+        // Sources: a coarse cut, but every node with leaves at several levels is opened, as long
+        // as the contact lines' leaves fit the budget; when they do not, the budget wins.
+        let all = mesh.element_count();
+        let sources = mesh.sources(all - 1);
+        assert!(sources.len() < all);
+        let tight = mesh.sources(8);
+        assert!(tight.len() <= 8.max(mesh.roots.iter().map(|r| r.len()).sum()));
         for &s in &sources {
             let node = &mesh.nodes[s as usize];
             let levels: Vec<u8> = node
