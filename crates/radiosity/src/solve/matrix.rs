@@ -24,6 +24,18 @@ pub struct Matrix {
     data: Vec<f32>,
 }
 
+/// Scales a row whose sum exceeds 1 down to 1: an element cannot see more than its hemisphere.
+/// The quadrature of each factor is accurate to ~10⁻³, but next to contact lines, where a
+/// receiver's few points see a touching surface's steep kernel, rows came to sum a little above
+/// one and a closed furnished room absorbed 1.004 times the power it emits.
+fn cap_at_hemisphere(row: &mut [f32]) {
+    let sum: f64 = row.iter().map(|&f| f64::from(f)).sum();
+    if sum > 1.0 {
+        let scale = (1.0 / sum) as f32;
+        row.iter_mut().for_each(|f| *f *= scale);
+    }
+}
+
 impl Matrix {
     /// Bytes that a matrix of `elements × sources` takes (saturating).
     #[must_use]
@@ -88,6 +100,7 @@ impl Matrix {
                     }
                     for (k, row) in block.chunks_mut(sources).enumerate() {
                         ff.row(g, chunk * CHUNK_ROWS + k, row);
+                        cap_at_hemisphere(row);
                     }
                     progress.advance((block.len() / sources) as u64);
                 });
@@ -106,5 +119,25 @@ impl Matrix {
     #[must_use]
     pub fn links(&self) -> u64 {
         self.data.iter().filter(|&&f| f != 0.0).count() as u64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_above_one_are_scaled_to_one_others_kept() {
+        let mut over = [0.5f32, 0.4, 0.3];
+        cap_at_hemisphere(&mut over);
+        let sum: f32 = over.iter().sum();
+        assert!((sum - 1.0).abs() < 1e-6, "{over:?}");
+        assert!(
+            (over[0] / over[2] - 0.5 / 0.3).abs() < 1e-5,
+            "proportions kept"
+        );
+        let mut under = [0.5f32, 0.2, 0.1];
+        cap_at_hemisphere(&mut under);
+        assert_eq!(under, [0.5, 0.2, 0.1]);
     }
 }
