@@ -229,7 +229,7 @@ pub fn solve_controlled(
     control: &checkpoint::Control,
     progress: &dyn Progress,
 ) -> Result<Solution, SolveError> {
-    let system = System::new(g)?;
+    let mut system = System::new(g)?;
     if settings.method == Method::Hierarchical && control.uses_checkpoints() {
         return Err(SolveError::CheckpointUnsupported);
     }
@@ -272,11 +272,11 @@ pub fn solve_controlled(
             solution.links = matrix.links();
             let start = Instant::now();
             progress.start("solve", 0);
-            let gathering = system.buried(&matrix);
+            system.bury(&matrix);
             let run = if settings.method == Method::Jacobi {
-                jacobi::run(&gathering, &matrix, settings, &mut session, progress)
+                jacobi::run(&system, &matrix, settings, &mut session, progress)
             } else {
-                gauss_seidel::run(&gathering, &matrix, settings, &mut session, progress)
+                gauss_seidel::run(&system, &matrix, settings, &mut session, progress)
             };
             progress.finish();
             solution.radiosity = run.radiosity;
@@ -396,35 +396,24 @@ impl System {
         })
     }
 
-    /// The same system with the *buried* elements left out of their sources' means: elements
-    /// whose form-factor row is all zero see nothing at all, as the floor under a block
-    /// standing on it. They stay dark, and a coarse source that straddles the block's footprint
-    /// would shine the mean of its lit and buried parts; rays already restrict a receiver to
-    /// the part it can see, which is the lit part, so the mean is taken over that part only.
-    /// (The Cornell box with each block face an object at 60 000 elements, whose sources the
-    /// memory budget keeps coarse: the blocks' sides next to the floor 2.6 % dark before.)
-    fn buried(&self, matrix: &matrix::Matrix) -> Self {
-        let mut weight = self.weight.clone();
-        for (e, w) in weight.iter_mut().enumerate() {
+    /// Leaves the *buried* elements out of their sources' means: elements whose form-factor
+    /// row is all zero see nothing at all, as the floor under a block standing on it. They stay
+    /// dark, and a coarse source that straddles the block's footprint would shine the mean of
+    /// its lit and buried parts; rays already restrict a receiver to the part it can see, which
+    /// is the lit part, so the mean is taken over that part only. (The Cornell box with each
+    /// block face an object at 60 000 elements, whose sources the memory budget keeps coarse:
+    /// the blocks' sides next to the floor 2.6 % dark before.)
+    fn bury(&mut self, matrix: &matrix::Matrix) {
+        for (e, w) in self.weight.iter_mut().enumerate() {
             if self.emission[e] == Rgb::ZERO && matrix.row(e).iter().all(|&f| f == 0.0) {
                 *w = 0.0;
             }
         }
-        let source_area = self
+        self.source_area = self
             .source_elements
             .iter()
-            .map(|r| weight[r.clone()].iter().sum())
+            .map(|r| self.weight[r.clone()].iter().sum())
             .collect();
-        Self {
-            weight,
-            source_area,
-            area: self.area.clone(),
-            reflectance: self.reflectance.clone(),
-            emission: self.emission.clone(),
-            source_of: self.source_of.clone(),
-            source_elements: self.source_elements.clone(),
-            emitted: self.emitted,
-        }
     }
 
     /// Weighted mean radiosity of every source, into `out` (in parallel; each mean is a
@@ -489,7 +478,8 @@ mod tests {
         let matrix =
             matrix::Matrix::compute(&g, ff.as_ref(), u64::MAX, &crate::progress::Silent).unwrap();
         let system = System::new(&g).unwrap();
-        let gathering = system.buried(&matrix);
+        let mut gathering = System::new(&g).unwrap();
+        gathering.bury(&matrix);
         let buried: Vec<usize> = (0..system.area.len())
             .filter(|&e| gathering.weight[e] == 0.0)
             .collect();
