@@ -95,8 +95,8 @@ pub(super) fn patches(scene: &Scene) -> Vec<(Patch, Vec<Face>)> {
 /// signed volume Σ a·(b × c)/6 over a fan of each polygon is positive. Emitting objects are
 /// left alone.
 fn enclosed_objects(scene: &Scene) -> Vec<bool> {
+    use crate::scene::coincident::exact_bits;
     use std::collections::HashMap;
-    let key = |v: Vec3| v.to_array().map(|x| (x + 0.0).to_bits());
     /// An undirected edge by its corners' bit patterns, smaller first.
     type Edge = ([u32; 3], [u32; 3]);
     let mut edges: Vec<HashMap<Edge, i32>> = vec![HashMap::new(); scene.objects.len()];
@@ -110,7 +110,7 @@ fn enclosed_objects(scene: &Scene) -> Vec<bool> {
         for (k, &a) in vs.iter().enumerate() {
             let b = vs[(k + 1) % vs.len()];
             // +1 for a → b, −1 for b → a under one unordered key.
-            let (ka, kb) = (key(a), key(b));
+            let (ka, kb) = (exact_bits(a), exact_bits(b));
             let (lo, hi, sign) = if ka < kb { (ka, kb, 1) } else { (kb, ka, -1) };
             *edges[o].entry((lo, hi)).or_default() += sign * 1000 + 1;
         }

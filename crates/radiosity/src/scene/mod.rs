@@ -8,6 +8,7 @@
 
 pub mod build;
 pub mod builtin;
+pub(crate) mod coincident;
 pub mod description;
 pub mod error;
 pub mod frame;

@@ -18,6 +18,7 @@ use std::sync::Arc;
 use glam::Vec3;
 use model::{PolyMesh, Transform};
 
+use super::coincident::{Dropped, SeenFaces};
 use super::description::{Field, ObjectDesc, SceneDesc, ShapeDesc};
 use super::validate::{polygon_problem, PolygonProblem};
 use super::{
@@ -26,6 +27,9 @@ use super::{
 use super::{Loc, RenderDefaults, SceneError};
 use crate::io::gltf_import;
 use crate::io::obj::{self, ObjFile};
+
+mod shapes;
+use shapes::{modeled_mesh, solid_mesh};
 
 impl Scene {
     /// Loads a scene file: `.toml` (the scene format) or `.obj` (a bare mesh, see
@@ -335,8 +339,8 @@ struct Builder {
     objects: HashMap<String, usize>,
     /// Meshes of objects reused by `instance` shapes, built once and shared.
     prototypes: HashMap<String, Arc<PolyMesh>>,
-    /// Corner keys ([`corner_key`]) of the faces added so far, to drop coincident duplicates.
-    corner_sets: std::collections::HashSet<Vec<[u32; 3]>>,
+    /// The faces added so far, to drop coincident duplicates.
+    seen: SeenFaces,
 }
 
 impl Builder {
@@ -359,7 +363,7 @@ impl Builder {
             },
             objects: HashMap::new(),
             prototypes: HashMap::new(),
-            corner_sets: std::collections::HashSet::new(),
+            seen: SeenFaces::default(),
         }
     }
 
@@ -425,29 +429,23 @@ impl Builder {
     }
 
     /// Adds faces (with the file line they come from, if any), skipping degenerate ones,
-    /// fanning strongly non-planar ones and dropping coincident duplicates, with a warning for
-    /// each kind.
-    ///
-    /// A duplicate is a face with exactly the corners of one added before, in the same cyclic
-    /// order (in either orientation when its material is two-sided: two opposite one-sided faces
-    /// are a legitimate two-sided sheet, as our own GLB export writes them): downloaded OBJ files have them (the widespread Cornell-box OBJ repeats a
-    /// side face of each block as its "bottom"), and two coincident surfaces would each hide
-    /// the other's lifted ray ends and shade as one z-fighting face.
+    /// fanning strongly non-planar ones and dropping coincident duplicates (see
+    /// [`super::coincident`]), with a warning for each kind.
     fn add_faces(
         &mut self,
         faces: impl Iterator<Item = (Vec<Vec3>, usize, usize, Option<usize>)>,
         label: &str,
     ) {
         let (mut skipped, mut split) = (0usize, 0usize);
-        let mut duplicates: Vec<Option<usize>> = Vec::new();
+        let mut dropped = Dropped::default();
         for (mut vs, material, object, line) in faces {
             vs.dedup();
             if vs.len() > 1 && vs.first() == vs.last() {
                 vs.pop();
             }
             let two_sided = self.scene.materials[material].two_sided;
-            if vs.len() >= 3 && !self.corner_sets.insert(corner_key(&vs, two_sided)) {
-                duplicates.push(line);
+            if vs.len() >= 3 && !self.seen.first_time(&vs, two_sided) {
+                dropped.add(line);
                 continue;
             }
             let pieces = match polygon_problem(&vs) {
@@ -482,13 +480,7 @@ impl Builder {
                 "{label}: split {split} non-planar face(s) into triangles"
             ));
         }
-        if let Some(first) = duplicates.first() {
-            let at = first.map_or(String::new(), |l| format!(" (first at line {l})"));
-            self.scene.warnings.push(format!(
-                "{label}: dropped {} face(s) coincident with an earlier face{at}",
-                duplicates.len()
-            ));
-        }
+        self.scene.warnings.extend(dropped.warning(label));
     }
 
     /// The finished scene: at least one polygon, and a camera (framed if none was given).
@@ -518,323 +510,4 @@ impl Builder {
         self.scene.render = render;
         Ok(self.scene)
     }
-}
-
-/// The corners of a face as exact bit patterns in a canonical cyclic order (starting at the
-/// smallest), and for `unoriented` faces the smaller of the two orientations: equal keys are
-/// coincident faces.
-fn corner_key(vs: &[Vec3], unoriented: bool) -> Vec<[u32; 3]> {
-    let bits: Vec<[u32; 3]> = vs
-        .iter()
-        .map(|v| v.to_array().map(|x| (x + 0.0).to_bits()))
-        .collect();
-    let canonical = |ring: Vec<[u32; 3]>| {
-        let first = (0..ring.len()).min_by_key(|&i| ring[i]).unwrap_or(0);
-        let mut out = ring;
-        out.rotate_left(first);
-        out
-    };
-    let forward = canonical(bits.clone());
-    if !unoriented {
-        return forward;
-    }
-    let mut reversed = bits;
-    reversed.reverse();
-    forward.min(canonical(reversed))
-}
-
-/// Default chordal tolerance of curved shapes, as a fraction of the control net's diagonal.
-const RELATIVE_TOLERANCE: f64 = 0.002;
-
-/// Segments per patch direction at most, for curved shapes.
-const MAX_SEGMENTS: usize = 64;
-
-/// The modeling shapes (patches, revolutions, subdivision surfaces, the teapot) as polygons,
-/// built by the `model` crate; problems the validator cannot see (knot vectors, net sizes,
-/// unreadable patch files) are reported at their key.
-fn modeled_mesh(
-    desc: &SceneDesc,
-    o: &ObjectDesc,
-    shape: &ShapeDesc,
-) -> Result<PolyMesh, SceneError> {
-    use glam::DVec3;
-    use model::curve::Nurbs;
-    use model::surface::{self, NurbsSurface, TessellationSettings};
-
-    let fail = |pos: super::description::Pos, key: &str, message: String| {
-        let at = Loc {
-            file: desc.file.clone(),
-            line: pos.line,
-            col: pos.col,
-        };
-        SceneError::at(at, message).with_key(key.to_string())
-    };
-    let at_object =
-        |key: &str, message: String| fail(o.pos, &format!("objects[{}].{key}", o.index), message);
-    // Tessellates patches with the given or the default (relative) tolerance.
-    let tessellate = |patches: &[NurbsSurface], tolerance: &Option<Field<f64>>| {
-        let tolerance = tolerance.as_ref().map_or_else(
-            || {
-                let (lo, hi) = patches
-                    .iter()
-                    .flat_map(|p| p.homogeneous().iter().map(|h| h.truncate() / h.w))
-                    .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-                        (lo.min(p), hi.max(p))
-                    });
-                RELATIVE_TOLERANCE * (hi - lo).length()
-            },
-            |t| t.value,
-        );
-        let settings = TessellationSettings {
-            tolerance,
-            max_segments: MAX_SEGMENTS,
-        };
-        surface::tessellate(patches, &settings)
-    };
-    let net = |points: &Field<Vec<Vec<Vec3>>>| -> Result<(usize, usize, Vec<DVec3>), SceneError> {
-        let rows = points.value.len();
-        let cols = points.value.first().map_or(0, Vec::len);
-        if rows < 2 || cols < 2 || points.value.iter().any(|r| r.len() != cols) {
-            return Err(fail(
-                points.pos,
-                &points.key,
-                "expected a grid of at least 2 × 2 points (rows of equal length)".into(),
-            ));
-        }
-        let flat = points
-            .value
-            .iter()
-            .flatten()
-            .map(|p| p.as_dvec3())
-            .collect();
-        Ok((rows, cols, flat))
-    };
-    let bad = |f: &dyn Fn() -> (super::description::Pos, String)| {
-        let (pos, key) = f();
-        fail(
-            pos,
-            &key,
-            "inconsistent degree, knots, weights and points (see docs/scene-format.md)".into(),
-        )
-    };
-    Ok(match shape {
-        ShapeDesc::Teapot { tolerance } => tessellate(&model::teapot::teapot_patches(), tolerance),
-        ShapeDesc::BezierPatch {
-            points,
-            path,
-            tolerance,
-        } => {
-            let patches = if let Some(points) = points {
-                let (rows, cols, flat) = net(points)?;
-                NurbsSurface::bezier(rows, cols, &flat)
-                    .into_iter()
-                    .collect()
-            } else if let Some(path) = path {
-                let full = desc
-                    .file
-                    .parent()
-                    .unwrap_or(Path::new(""))
-                    .join(&path.value);
-                let text = std::fs::read_to_string(&full).map_err(|e| {
-                    fail(
-                        path.pos,
-                        &path.key,
-                        format!("cannot read `{}`: {e}", full.display()),
-                    )
-                })?;
-                model::teapot::parse_newell(&text)
-                    .map_err(|e| fail(path.pos, &path.key, format!("`{}`: {e}", full.display())))?
-            } else {
-                Vec::new()
-            };
-            tessellate(&patches, tolerance)
-        }
-        ShapeDesc::NurbsSurface {
-            points,
-            weights,
-            degree,
-            knots_u,
-            knots_v,
-            tolerance,
-        } => {
-            let (rows, cols, flat) = net(points)?;
-            let (p, q) = match degree.as_ref().map(|d| d.value.as_slice()) {
-                None => (3.min(rows - 1), 3.min(cols - 1)),
-                Some(&[p, q]) => (p as usize, q as usize),
-                Some(_) => {
-                    let d = degree
-                        .as_ref()
-                        .map_or((o.pos, String::new()), |d| (d.pos, d.key.clone()));
-                    return Err(fail(d.0, &d.1, "expected [p, q]".into()));
-                }
-            };
-            let w: Vec<f64> = match weights {
-                Some(w) => w.value.iter().flatten().copied().collect(),
-                None => vec![1.0; flat.len()],
-            };
-            let clamped =
-                |d: usize, n: usize| model::curve::bspline::clamped_knots(d, n).unwrap_or_default();
-            let ku = knots_u
-                .as_ref()
-                .map_or_else(|| clamped(p, rows), |k| k.value.clone());
-            let kv = knots_v
-                .as_ref()
-                .map_or_else(|| clamped(q, cols), |k| k.value.clone());
-            // Name the key at fault where one can be told: knot counts and weight counts.
-            for (knots, count, degree) in [(knots_u, rows, p), (knots_v, cols, q)] {
-                if let Some(k) = knots {
-                    if k.value.len() != count + degree + 1 {
-                        return Err(fail(
-                            k.pos,
-                            &k.key,
-                            format!(
-                                "expected {} knots ({count} points + degree {degree} + 1), found {}",
-                                count + degree + 1,
-                                k.value.len()
-                            ),
-                        ));
-                    }
-                }
-            }
-            if let Some(weights) = weights {
-                if w.len() != flat.len() {
-                    return Err(fail(
-                        weights.pos,
-                        &weights.key,
-                        format!(
-                            "expected {} weights, one per point, found {}",
-                            flat.len(),
-                            w.len()
-                        ),
-                    ));
-                }
-            }
-            let patch = NurbsSurface::new((p, q), (ku, kv), (rows, cols), &flat, &w)
-                .ok_or_else(|| bad(&|| (points.pos, points.key.clone())))?;
-            tessellate(&[patch], tolerance)
-        }
-        ShapeDesc::Revolve {
-            profile,
-            weights,
-            degree,
-            knots,
-            origin,
-            axis,
-            angle,
-            tolerance,
-        } => {
-            let pts: Vec<DVec3> = profile.value.iter().map(|p| p.as_dvec3()).collect();
-            if pts.len() < 2 {
-                return Err(fail(
-                    profile.pos,
-                    &profile.key,
-                    "at least 2 profile points".into(),
-                ));
-            }
-            let p = degree
-                .as_ref()
-                .map_or(3.min(pts.len() - 1), |d| d.value as usize);
-            let w = weights
-                .as_ref()
-                .map_or_else(|| vec![1.0; pts.len()], |w| w.value.clone());
-            let k = knots.as_ref().map_or_else(
-                || model::curve::bspline::clamped_knots(p, pts.len()).unwrap_or_default(),
-                |k| k.value.clone(),
-            );
-            let curve = Nurbs::new(p, k, &pts, &w)
-                .ok_or_else(|| bad(&|| (profile.pos, profile.key.clone())))?;
-            let s = surface::revolve::revolve(
-                &curve,
-                origin.value.as_dvec3(),
-                axis.value.as_dvec3(),
-                angle.value,
-            )
-            .ok_or_else(|| fail(axis.pos, &axis.key, "axis must be non-zero".into()))?;
-            tessellate(&[s], tolerance)
-        }
-        ShapeDesc::Subdivision {
-            base,
-            vertices,
-            faces,
-            scheme,
-            levels,
-        } => {
-            let mesh = match (base, vertices, faces) {
-                (Some(b), _, _) if b.value == "tetrahedron" => PolyMesh {
-                    positions: vec![
-                        Vec3::new(1.0, 1.0, 1.0),
-                        Vec3::new(1.0, -1.0, -1.0),
-                        Vec3::new(-1.0, 1.0, -1.0),
-                        Vec3::new(-1.0, -1.0, 1.0),
-                    ]
-                    .into_iter()
-                    .map(|p| p * 0.5)
-                    .collect(),
-                    faces: vec![vec![0, 1, 2], vec![0, 3, 1], vec![0, 2, 3], vec![1, 3, 2]],
-                },
-                (Some(_), _, _) => model::primitives::cuboid(Vec3::splat(-0.5), Vec3::splat(0.5)),
-                (None, Some(v), Some(f)) => PolyMesh {
-                    positions: v.value.clone(),
-                    faces: f.value.clone(),
-                },
-                _ => return Err(at_object("base", "missing base mesh".into())),
-            };
-            let scheme = if scheme.value == "loop" {
-                surface::subdivision::Scheme::Loop
-            } else {
-                surface::subdivision::Scheme::CatmullClark
-            };
-            surface::subdivision::subdivide(&mesh, scheme, levels.value)
-        }
-        _ => PolyMesh::default(),
-    })
-}
-
-/// The mesh of a shape in its own frame (before the object's transform): primitives, implicit
-/// surfaces by marching cubes, CSG trees by BSP Booleans of their transformed operands, and the
-/// modeled surfaces of [`modeled_mesh`]. Validation has refused the shapes that cannot be
-/// meshes here (files and instances).
-fn solid_mesh(desc: &SceneDesc, o: &ObjectDesc, shape: &ShapeDesc) -> Result<PolyMesh, SceneError> {
-    Ok(match shape {
-        ShapeDesc::Polygon { vertices } => PolyMesh {
-            positions: vertices.value.clone(),
-            faces: vec![(0..vertices.value.len() as u32).collect()],
-        },
-        ShapeDesc::Box { min, max } => model::primitives::cuboid(min.value, max.value),
-        ShapeDesc::Sphere {
-            center,
-            radius,
-            subdivisions,
-        } => model::primitives::icosphere(center.value, radius.value, subdivisions.value),
-        ShapeDesc::Implicit { sdf, resolution } => {
-            model::implicit::marching_cubes::MarchingCubes::around(&sdf.value, resolution.value)
-                .map(|mc| mc.polygonize(&sdf.value))
-                .unwrap_or_default()
-        }
-        ShapeDesc::Csg { op, operands } => {
-            let op = match op.value.as_str() {
-                "union" => model::csg::CsgOp::Union,
-                "intersection" => model::csg::CsgOp::Intersection,
-                _ => model::csg::CsgOp::Difference,
-            };
-            let mut result: Option<PolyMesh> = None;
-            for operand in &operands.value {
-                let mut mesh = solid_mesh(desc, o, &operand.shape)?;
-                if let Some(t) = &operand.transform {
-                    mesh.transform(&Transform::from_srt(
-                        t.scale.value,
-                        t.rotate.value,
-                        t.translate.value,
-                    ));
-                }
-                result = Some(match result {
-                    None => mesh,
-                    Some(acc) => model::csg::apply(op, &acc, &mesh),
-                });
-            }
-            result.unwrap_or_default()
-        }
-        ShapeDesc::Mesh { .. } | ShapeDesc::Instance { .. } => PolyMesh::default(),
-        other => modeled_mesh(desc, o, other)?,
-    })
 }
