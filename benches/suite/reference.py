@@ -558,25 +558,14 @@ def run_scene(name, args):
 
 
 def furnace_objects():
-    """CIE 171:2006 TC 5.8: closed 1 m cube, rho = 0.5, centre ninth of the ceiling emits 1."""
+    """CIE 171:2006 TC 5.8, the closed 1 m cube of `benches/cornell_reference.py` (rho = 0.5,
+    centre ninth of the ceiling emitting radiance 1), as suite objects."""
+    sys.path.insert(0, str(ROOT / "benches"))
+    from cornell_reference import furnace_shapes  # noqa: E402
+
     objs = Objects()
-    for axis in range(3):
-        b, c = [0.0] * 3, [0.0] * 3
-        b[(axis + 1) % 3], c[(axis + 2) % 3] = 1.0, 1.0
-        for side in (0.0, 1.0):
-            u, v = (b, c) if side == 0.0 else (c, b)
-            tiles = 3 if axis == 1 and side == 1.0 else 1
-            t = 1.0 / tiles
-            for i in range(tiles):
-                for j in range(tiles):
-                    corner = [side if k == axis else 0.0 for k in range(3)]
-                    corner = [corner[k] + i * t * u[k] + j * t * v[k] for k in range(3)]
-                    quad = [corner, [corner[k] + t * u[k] for k in range(3)],
-                            [corner[k] + t * (u[k] + v[k]) for k in range(3)],
-                            [corner[k] + t * v[k] for k in range(3)]]
-                    lamp = tiles == 3 and i == j == 1
-                    objs.add("lamp" if lamp else "walls", [quad], (0.5,) * 3,
-                             (1.0,) * 3 if lamp else (0.0,) * 3, False)
+    for name, (_, rho, emission, polygons) in furnace_shapes(0.5).items():
+        objs.add(name, polygons, rho, emission, False)
     return objs.finish()
 
 
