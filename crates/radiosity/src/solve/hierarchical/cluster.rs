@@ -60,6 +60,9 @@ pub struct Clusters {
     /// Root-face node ids (into [`Mesh::nodes`]) in cluster order: every cluster's faces are a
     /// contiguous range.
     pub faces: Vec<u32>,
+    /// For each entry of `faces`: A_f max(0, n_f·e_k), its [`axis_weights`], which the push
+    /// and pull of every iteration read.
+    pub face_facing: Vec<[f64; 6]>,
 }
 
 impl Clusters {
@@ -110,6 +113,11 @@ impl Clusters {
             build.objects(&mut out, &mut groups);
         }
         out.faces = placed.iter().map(|&i| faces[i as usize]).collect();
+        out.face_facing = out
+            .faces
+            .iter()
+            .map(|&f| axis_weights(mesh.nodes[f as usize].face.vector_area()))
+            .collect();
         debug_assert_eq!(out.validate(mesh), Ok(()));
         out
     }

@@ -125,14 +125,14 @@ impl State {
                 }
                 None => {
                     let range = clusters.nodes[c].faces.clone();
-                    for &f in &clusters.faces[range.start as usize..range.end as usize] {
-                        let face = &mesh.nodes[f as usize].face;
-                        let per_area = 1.0 / face.area().max(f64::MIN_POSITIVE);
-                        let facing: Rgb = axis_weights(face.vector_area())
-                            .iter()
-                            .zip(q)
-                            .map(|(w, q)| q * (w * per_area))
-                            .sum();
+                    let range = range.start as usize..range.end as usize;
+                    for (&f, weights) in clusters.faces[range.clone()]
+                        .iter()
+                        .zip(&clusters.face_facing[range])
+                    {
+                        let per_area = 1.0 / self.node_area[f as usize].max(f64::MIN_POSITIVE);
+                        let facing: Rgb =
+                            weights.iter().zip(q).map(|(w, q)| q * (w * per_area)).sum();
                         self.node_h[f as usize] += down + facing;
                     }
                 }
@@ -281,17 +281,20 @@ impl State {
                     let a = clusters.nodes[k as usize].area;
                     (s + a * self.cluster_b[k as usize], w + a)
                 }),
-                None => clusters.faces[cluster.faces.start as usize..cluster.faces.end as usize]
-                    .iter()
-                    .fold((Rgb::ZERO, 0.0), |(s, w), &f| {
-                        let b = self.node_b[f as usize];
-                        let facing = axis_weights(mesh.nodes[f as usize].face.vector_area());
-                        for (x, y) in n.iter_mut().zip(facing) {
-                            *x += b * y;
-                        }
-                        let a = self.node_area[f as usize];
-                        (s + a * b, w + a)
-                    }),
+                None => {
+                    let range = cluster.faces.start as usize..cluster.faces.end as usize;
+                    clusters.faces[range.clone()]
+                        .iter()
+                        .zip(&clusters.face_facing[range])
+                        .fold((Rgb::ZERO, 0.0), |(s, w), (&f, facing)| {
+                            let b = self.node_b[f as usize];
+                            for (x, y) in n.iter_mut().zip(facing) {
+                                *x += b * *y;
+                            }
+                            let a = self.node_area[f as usize];
+                            (s + a * b, w + a)
+                        })
+                }
             };
             self.cluster_b[c] = if area > 0.0 { sum / area } else { Rgb::ZERO };
             self.cluster_n[c] = n;
