@@ -242,30 +242,28 @@ fn gathering_fits(roots: usize, elements: f64, limit: u64) -> bool {
     elements * sources * std::mem::size_of::<f32>() as f64 <= limit as f64
 }
 
-/// The solver and the number of sources. A method the user chose keeps the requested sources
-/// (a gathering one: as many of them as the matrix budget allows, if that is at least
-/// [`MIN_GATHER_SOURCES`]). The automatic choice is gathering (Gauss-Seidel) with as many sources as the matrix budget
-/// allows, up to the requested number; only when fewer than [`MIN_GATHER_SOURCES`] would fit
-/// does it fall back to progressive refinement, which stores no matrix.
+/// The solver and the number of sources. A gathering solver gets as many sources as the matrix
+/// budget allows, up to the requested number, as long as at least [`MIN_GATHER_SOURCES`] fit
+/// (`--elements 50000 --solver gauss-seidel` in 1 GiB gets fewer sources rather than a
+/// refusal); otherwise it keeps the requested number and the solver refuses. A method the user
+/// chose is kept; the automatic choice is Gauss-Seidel when gathering fits, else progressive
+/// refinement, which stores no matrix.
 fn choose_method(mesh: &Mesh, settings: &Settings) -> (solve::Method, usize) {
     let wanted = settings.solve.max_sources;
     let elements = mesh.element_count().max(1);
     let per_source = Matrix::bytes(elements, 1).max(1);
     let fit = usize::try_from(settings.solve.max_matrix_bytes / per_source).unwrap_or(usize::MAX);
-    if let Some(method) = settings.method {
-        // A gathering method the user chose gets fewer sources rather than a refusal while at
-        // least MIN_GATHER_SOURCES fit (`--elements 50000 --solver gauss-seidel` in 1 GiB).
-        let gathers = matches!(method, solve::Method::Jacobi | solve::Method::GaussSeidel);
-        return if gathers && fit >= MIN_GATHER_SOURCES.min(elements) {
-            (method, wanted.min(fit))
-        } else {
-            (method, wanted)
-        };
-    }
-    if fit >= MIN_GATHER_SOURCES.min(elements) {
-        (solve::Method::GaussSeidel, wanted.min(fit))
+    let enough_sources = fit >= MIN_GATHER_SOURCES.min(elements);
+    let method = settings.method.unwrap_or(if enough_sources {
+        solve::Method::GaussSeidel
     } else {
-        (solve::Method::Progressive, wanted)
+        solve::Method::Progressive
+    });
+    let gathers = matches!(method, solve::Method::Jacobi | solve::Method::GaussSeidel);
+    if gathers && enough_sources {
+        (method, wanted.min(fit))
+    } else {
+        (method, wanted)
     }
 }
 
