@@ -109,10 +109,10 @@ pub fn rows(
         let (scene_path, references) = read_reference(file)?;
         let scene_path = root.join(scene_path);
         let label = file.file_stem().and_then(|s| s.to_str()).unwrap_or("?");
+        let scene = Scene::load(&scene_path).map_err(|e| anyhow::anyhow!("{}", e))?;
         for &solver in solvers {
             for &ff in form_factors {
-                let scene = Scene::load(&scene_path).map_err(|e| anyhow::anyhow!("{}", e))?;
-                out.push(worst_object(label, scene, solver, ff, &references)?);
+                out.push(worst_object(label, scene.clone(), solver, ff, &references)?);
             }
         }
     }
