@@ -51,7 +51,7 @@ pub fn run(args: &HemicubeArgs) -> Result<()> {
         .map_or(solve::Settings::default().max_sources, |n| {
             usize::try_from(n).unwrap_or(usize::MAX)
         });
-    let sources = mesh.sources(max_sources);
+    let sources = mesh.sources(max_sources, max_sources);
     let g = Geometry::new(&mesh, &bvh, &sources);
     let hemicube = Hemicube::new(args.resolution, 1, args.seed).with_rotation(args.rotate);
     let view = hemicube.view(&g, element);

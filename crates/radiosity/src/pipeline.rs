@@ -124,8 +124,8 @@ pub fn solve_controlled(
     progress.advance(1);
     let bvh = Bvh::build(&mesh.triangles);
     progress.advance(1);
-    let (method, max_sources) = choose_method(&mesh, settings);
-    let sources = mesh.sources(max_sources);
+    let (method, max_sources, limit) = choose_method(&mesh, settings);
+    let sources = mesh.sources(max_sources, limit);
     progress.advance(1);
     progress.finish();
     timings.mesh = start.elapsed().as_secs_f64();
@@ -242,13 +242,14 @@ fn gathering_fits(roots: usize, elements: f64, limit: u64) -> bool {
     elements * sources * std::mem::size_of::<f32>() as f64 <= limit as f64
 }
 
-/// The solver and the number of sources. A gathering solver gets as many sources as the matrix
-/// budget allows, up to the requested number, as long as at least [`MIN_GATHER_SOURCES`] fit
+/// The solver, the number of sources, and how far [`Mesh::sources`] may exceed it to keep
+/// sources off contact lines. A gathering solver gets as many sources as the matrix budget
+/// allows, up to the requested number, as long as at least [`MIN_GATHER_SOURCES`] fit
 /// (`--elements 50000 --solver gauss-seidel` in 1 GiB gets fewer sources rather than a
-/// refusal); otherwise it keeps the requested number and the solver refuses. A method the user
-/// chose is kept; the automatic choice is Gauss-Seidel when gathering fits, else progressive
-/// refinement, which stores no matrix.
-fn choose_method(mesh: &Mesh, settings: &Settings) -> (solve::Method, usize) {
+/// refusal), and contact lines may take it up to the budget; otherwise it keeps the requested
+/// number and the solver refuses. A method the user chose is kept; the automatic choice is
+/// Gauss-Seidel when gathering fits, else progressive refinement, which stores no matrix.
+fn choose_method(mesh: &Mesh, settings: &Settings) -> (solve::Method, usize, usize) {
     let wanted = settings.solve.max_sources;
     let elements = mesh.element_count().max(1);
     let per_source = Matrix::bytes(elements, 1).max(1);
@@ -261,9 +262,9 @@ fn choose_method(mesh: &Mesh, settings: &Settings) -> (solve::Method, usize) {
     });
     let gathers = matches!(method, solve::Method::Jacobi | solve::Method::GaussSeidel);
     if gathers && enough_sources {
-        (method, wanted.min(fit))
+        (method, wanted.min(fit), fit)
     } else {
-        (method, wanted)
+        (method, wanted, wanted)
     }
 }
 

@@ -20,7 +20,7 @@ pub struct Prepared {
     pub mesh: Mesh,
     /// Visibility structure over `mesh.triangles`.
     pub bvh: Bvh,
-    /// Source node ids, `mesh.sources(max_sources)`.
+    /// Source node ids, `mesh.sources(max_sources, max_sources)`.
     pub sources: Vec<u32>,
 }
 
@@ -30,7 +30,7 @@ impl Prepared {
     pub fn new(scene: &Scene, subdivision: Subdivision, max_sources: usize) -> Self {
         let mesh = Mesh::build(scene, subdivision);
         let bvh = Bvh::build(&mesh.triangles);
-        let sources = mesh.sources(max_sources);
+        let sources = mesh.sources(max_sources, max_sources);
         Self { mesh, bvh, sources }
     }
 

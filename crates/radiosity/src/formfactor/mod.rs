@@ -27,6 +27,7 @@
 //! The defaults were measured on the Cornell box (see [`Settings::default`]).
 
 pub mod analytic;
+pub(crate) mod exposure;
 pub mod hemicube;
 pub mod raycast;
 
@@ -65,7 +66,23 @@ impl<'a> Geometry<'a> {
     pub fn source_patch(&self, s: usize) -> u32 {
         self.mesh.nodes[self.sources[s] as usize].patch
     }
+
+    /// How far rays start and end off their surfaces, along the normals: [`OFFSET`] times the
+    /// scene's diagonal, so a ray neither hits the polygon it starts from nor the one it aims at.
+    #[must_use]
+    pub fn lift(&self) -> f32 {
+        let b = self.bvh.bounds();
+        let diagonal = (b.max - b.min).length();
+        if diagonal.is_finite() && diagonal > 0.0 {
+            OFFSET * diagonal
+        } else {
+            OFFSET
+        }
+    }
 }
+
+/// Ray-end lift relative to the scene's bounding-box diagonal ([`Geometry::lift`]).
+const OFFSET: f32 = 1e-4;
 
 /// A way of computing form factors between elements (receivers) and sources.
 ///

@@ -35,9 +35,6 @@ use crate::mesh::Face;
 /// Rays of the adaptive pilot (one per quadrant).
 const PILOT: u32 = 4;
 
-/// Shadow-ray offset relative to the scene's bounding-box diagonal.
-const OFFSET: f32 = 1e-4;
-
 /// Ray-cast form factors (see the module documentation).
 #[derive(Clone, Copy, Debug)]
 pub struct RayCast {
@@ -96,10 +93,14 @@ impl RayCast {
         let (n_from, n_to) = (normal(g.mesh.element(e).patch), normal(g.source_patch(s)));
         let pair = mix(mix(mix(self.seed) ^ e as u64) ^ s as u64);
         // Casts one ray; returns its kernel weight cosθ_i cosθ_j / r² and whether it arrives.
+        // The kernel is taken between the points on the surfaces, the ray between the lifted
+        // ones: where two faces are closer than twice the lift (an emitter 1 mm in front of a
+        // wall), the lifted ends pass each other and their difference points backwards.
         let cast = |(u, v): (f32, f32), (su, sv): (f32, f32)| {
-            let origin = from.point(u, v) + n_from * lift;
-            let target = to.point(su, sv) + n_to * lift;
-            let d = (target - origin).as_dvec3();
+            let (x, y) = (from.point(u, v), to.point(su, sv));
+            let origin = x + n_from * lift;
+            let target = y + n_to * lift;
+            let d = (y - x).as_dvec3();
             let weight = (d.dot(n_from.as_dvec3()).max(0.0) * (-d.dot(n_to.as_dvec3())).max(0.0))
                 / d.length_squared().powi(2).max(f64::MIN_POSITIVE);
             let arrives = !g.bvh.occluded(&Ray::new(origin, target - origin), 1.0);
@@ -157,27 +158,16 @@ impl RayCast {
     }
 }
 
-/// The lift of ray ends off their surfaces: [`OFFSET`] times the scene's diagonal.
-fn lift(g: &Geometry) -> f32 {
-    let b = g.bvh.bounds();
-    let diagonal = (b.max - b.min).length();
-    if diagonal.is_finite() && diagonal > 0.0 {
-        OFFSET * diagonal
-    } else {
-        OFFSET
-    }
-}
-
 impl FormFactors for RayCast {
     fn row(&self, g: &Geometry, element: usize, out: &mut [f32]) {
-        let lift = lift(g);
+        let lift = g.lift();
         row_with(g, self.quadrature, element, out, |r, s| {
             self.pair(g, r, element, s, lift)
         });
     }
 
     fn column(&self, g: &Geometry, source: usize, out: &mut [f32]) {
-        let lift = lift(g);
+        let lift = g.lift();
         column_with(g, self.quadrature, out, |r, e| {
             self.pair(g, r, e, source, lift)
         });

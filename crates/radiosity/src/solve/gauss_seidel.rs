@@ -34,7 +34,7 @@ pub(super) fn run(
             moved += system.area[e] * l1(delta);
             let s = system.source_of[e] as usize;
             if system.source_area[s] > 0.0 {
-                means[s] += delta * (system.weight[e] / system.source_area[s]);
+                means[s] += delta * (system.area[e] / system.source_area[s]);
             }
         }
         moved / system.emitted

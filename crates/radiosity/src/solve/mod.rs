@@ -272,7 +272,7 @@ pub fn solve_controlled(
             solution.links = matrix.links();
             let start = Instant::now();
             progress.start("solve", 0);
-            system.bury(&matrix);
+            system.bury(g, &matrix);
             let run = if settings.method == Method::Jacobi {
                 jacobi::run(&system, &matrix, settings, &mut session, progress)
             } else {
@@ -347,11 +347,13 @@ pub(crate) struct System {
     source_of: Vec<u32>,
     /// Elements of each source.
     source_elements: Vec<Range<usize>>,
-    /// Weight of each element in its source's mean: its area, or 0 for a buried element
-    /// (see [`System::buried`]).
-    weight: Vec<f64>,
-    /// Area of each source: the sum of its elements' weights.
+    /// Open fraction u of each element ([`crate::formfactor::exposure`]).
+    exposure: Vec<f64>,
+    /// Open area of each source: Σ A_e u_e over its elements.
     source_area: Vec<f64>,
+    /// Emitted power of each source's buried parts, Σ A_e (1 − u_e) E_e, which its open part
+    /// does not shine.
+    hidden_emission: Vec<Rgb>,
     /// Σ A ‖E‖₁, the denominator of the residual.
     emitted: f64,
 }
@@ -379,51 +381,79 @@ impl System {
         if let Some(e) = source_of.iter().position(|&s| s == u32::MAX) {
             return Err(SolveError::BadSources { element: e });
         }
-        let source_area = source_elements
-            .iter()
-            .map(|r| area[r.clone()].iter().sum())
-            .collect();
         let emitted = power(&area, &emission);
-        Ok(Self {
-            weight: area.clone(),
+        let mut system = Self {
+            exposure: vec![1.0; n],
             area,
             reflectance,
             emission,
             source_of,
             source_elements,
-            source_area,
+            source_area: Vec::new(),
+            hidden_emission: Vec::new(),
             emitted,
-        })
+        };
+        system.weigh_sources();
+        Ok(system)
     }
 
-    /// Leaves the *buried* elements out of their sources' means: elements whose form-factor
-    /// row is all zero see nothing at all, as the floor under a block standing on it. They stay
-    /// dark, and a coarse source that straddles the block's footprint would shine the mean of
-    /// its lit and buried parts; rays already restrict a receiver to the part it can see, which
-    /// is the lit part, so the mean is taken over that part only. (The Cornell box with each
-    /// block face an object at 60 000 elements, whose sources the memory budget keeps coarse:
-    /// the blocks' sides next to the floor 2.6 % dark before.)
-    fn bury(&mut self, matrix: &matrix::Matrix) {
-        for (e, w) in self.weight.iter_mut().enumerate() {
-            if self.emission[e] == Rgb::ZERO && matrix.row(e).iter().all(|&f| f == 0.0) {
-                *w = 0.0;
-            }
-        }
+    /// The open area and hidden emission of every source, from the elements' exposure.
+    fn weigh_sources(&mut self) {
+        let (area, exposure, emission) = (&self.area, &self.exposure, &self.emission);
         self.source_area = self
             .source_elements
             .iter()
-            .map(|r| self.weight[r.clone()].iter().sum())
+            .map(|r| r.clone().map(|e| area[e] * exposure[e]).sum())
+            .collect();
+        self.hidden_emission = self
+            .source_elements
+            .iter()
+            .map(|r| {
+                r.clone()
+                    .map(|e| emission[e] * (area[e] * (1.0 - exposure[e])))
+                    .sum()
+            })
             .collect();
     }
 
-    /// Weighted mean radiosity of every source, into `out` (in parallel; each mean is a
-    /// sequential sum, so the result does not depend on the thread count).
+    /// Reads the elements' exposure for gathering: the probes of
+    /// [`crate::formfactor::exposure`], never below the element's row sum Σ_s F_es (an element
+    /// cannot receive from more than its open part, and with u ≥ Σ F the gain ρ Σ F / u of every
+    /// element stays below 1, so the iteration converges however the probes and the shadow
+    /// rays disagree), and 0 where the row is all zero: such an element sees nothing at all, as
+    /// the floor under a block standing on it. (The Cornell box with each block face an object
+    /// at 60 000 elements, whose sources the memory budget keeps coarse: the blocks' sides next
+    /// to the floor were 2.6 % dark while a source straddling the footprint shone its
+    /// whole-area mean.)
+    fn bury(&mut self, g: &Geometry, matrix: &matrix::Matrix) {
+        let probed = crate::formfactor::exposure::exposure(g);
+        for (e, u) in self.exposure.iter_mut().enumerate() {
+            let row: f64 = matrix.row(e).iter().map(|&f| f64::from(f)).sum();
+            *u = if self.emission[e] == Rgb::ZERO && row == 0.0 {
+                0.0
+            } else {
+                probed[e].max(row).min(1.0)
+            };
+        }
+        self.weigh_sources();
+    }
+
+    /// The radiosity each source shines from its open part, into `out`: with B the
+    /// whole-area means of its elements (E on their buried parts),
+    ///
+    /// ```text
+    /// B̄_s = (Σ_e A_e B_e − Σ_e A_e (1 − u_e) E_e) / Σ_e A_e u_e ,
+    /// ```
+    ///
+    /// the substructuring mean of Cohen et al. 1986 taken over the open area only (see
+    /// [`crate::formfactor::exposure`]). In parallel; each mean is a sequential sum, so the
+    /// result does not depend on the thread count.
     fn source_means(&self, b: &[Rgb], out: &mut [Rgb]) {
         out.par_iter_mut().enumerate().for_each(|(s, mean)| {
             let range = self.source_elements[s].clone();
-            let sum: Rgb = range.map(|e| b[e] * self.weight[e]).sum();
+            let sum: Rgb = range.map(|e| b[e] * self.area[e]).sum();
             *mean = if self.source_area[s] > 0.0 {
-                sum / self.source_area[s]
+                (sum - self.hidden_emission[s]) / self.source_area[s]
             } else {
                 Rgb::ZERO
             };
@@ -470,7 +500,8 @@ mod tests {
     #[test]
     fn buried_elements_leave_their_sources_mean() {
         // The Cornell box at 1 024 elements and 64 sources: the floor under the blocks sees
-        // nothing (all-zero rows), so it is weighed out of its sources' means, and only it.
+        // nothing (all-zero rows), so it is weighed out of its sources' means; the exposure
+        // probes find it buried too, partly along the footprints, and nothing else.
         let scene = crate::scene::builtin::load("cornell").unwrap().unwrap();
         let p = crate::testing::Prepared::new(&scene, crate::mesh::Subdivision::Elements(1024), 64);
         let g = p.geometry();
@@ -479,22 +510,39 @@ mod tests {
             matrix::Matrix::compute(&g, ff.as_ref(), u64::MAX, &crate::progress::Silent).unwrap();
         let system = System::new(&g).unwrap();
         let mut gathering = System::new(&g).unwrap();
-        gathering.bury(&matrix);
-        let buried: Vec<usize> = (0..system.area.len())
-            .filter(|&e| gathering.weight[e] == 0.0)
+        gathering.bury(&g, &matrix);
+        let dark: Vec<usize> = (0..system.area.len())
+            .filter(|&e| matrix.row(e).iter().all(|&f| f == 0.0))
             .collect();
-        assert!(!buried.is_empty());
-        for &e in &buried {
-            assert_eq!(
-                g.mesh.element_patch(e).object,
-                0,
-                "only floor elements are buried"
-            );
-            assert!(matrix.row(e).iter().all(|&f| f == 0.0));
+        assert!(!dark.is_empty());
+        for e in 0..system.area.len() {
+            if dark.contains(&e) {
+                assert_eq!(gathering.exposure[e], 0.0);
+            }
+            if gathering.exposure[e] < 1.0 {
+                assert_eq!(
+                    g.mesh.element_patch(e).object,
+                    0,
+                    "only floor elements are buried"
+                );
+            }
         }
-        // Means weigh the rest by area: a radiosity of 1 on every unburied element gives
-        // means of 1 wherever a source keeps any weight.
-        let b: Vec<Rgb> = (0..system.area.len()).map(|_| Rgb::ONE).collect();
+        let partly = gathering.exposure.iter().filter(|&&u| u > 0.0 && u < 1.0);
+        assert!(partly.count() > 0);
+        // An open radiosity of 1 everywhere (the whole-area means are then B_e = u_e, the
+        // scene's only emitter being wholly open) gives means of 1 wherever a source is open.
+        let b: Vec<Rgb> = gathering
+            .exposure
+            .iter()
+            .zip(&gathering.emission)
+            .map(|(&u, &e)| {
+                if e == Rgb::ZERO {
+                    Rgb::splat(u)
+                } else {
+                    Rgb::ONE
+                }
+            })
+            .collect();
         let mut means = vec![Rgb::ZERO; system.source_area.len()];
         gathering.source_means(&b, &mut means);
         for (s, m) in means.iter().enumerate() {
