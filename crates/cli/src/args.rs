@@ -235,7 +235,9 @@ pub struct CommonArgs {
     #[arg(long, value_name = "A", value_parser = positive_f64)]
     pub max_element_area: Option<f64>,
     /// Most light sources: quadtree nodes that shoot the mean radiosity of their elements
-    /// (substructuring). Sources are the elements themselves when there are fewer elements.
+    /// (substructuring). Sources are the elements themselves when there are fewer elements; a
+    /// gathering solver takes more where contact lines need them, within --max-memory
+    /// [default: 8192]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     pub sources: Option<u64>,
     /// Cells along a full edge of a hemicube (hemicube form factors).
