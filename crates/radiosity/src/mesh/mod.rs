@@ -447,6 +447,7 @@ fn target_area(root_areas: &[f64], n: usize) -> f64 {
 mod tests {
     use super::*;
     use crate::scene::{Material, Object, Polygon};
+    use crate::Rgb;
 
     fn square_scene(two_sided: bool) -> Scene {
         Scene {
@@ -593,19 +594,59 @@ mod tests {
         assert!(sources.len() < all);
         let tight = mesh.sources(8, 8);
         assert!(tight.len() <= 8.max(mesh.roots.iter().map(|r| r.len()).sum()));
-        for &s in &sources {
-            let node = &mesh.nodes[s as usize];
-            let levels: Vec<u8> = node
+        // Given room to grow, a small budget grows until no source straddles.
+        let grown = mesh.sources(8, all);
+        assert!(grown.len() > 8 && grown.len() < all);
+        for sources in [&sources, &grown] {
+            for &s in sources {
+                let node = &mesh.nodes[s as usize];
+                let mut levels = node
+                    .elements
+                    .clone()
+                    .map(|e| mesh.element(e as usize).level);
+                let first = levels.next();
+                assert!(levels.all(|l| Some(l) == first), "source {s} straddles");
+            }
+        }
+        mesh.validate().unwrap();
+    }
+
+    #[test]
+    fn an_emitter_hovering_face_down_is_outlined_deeper_than_other_covers() {
+        // The unit square (facing +z) with a panel 1 mm above it, off the square's dyadic grid:
+        // facing the square and emitting, or emitting away from it.
+        let levels = |facing: bool| {
+            let mut scene = square_scene(false);
+            scene.materials.push(Material {
+                emission: Rgb::ONE,
+                ..Material::default()
+            });
+            let (a, b, h) = (0.2345, 0.7321, 0.001);
+            let mut vertices = vec![
+                Vec3::new(a, a, h),
+                Vec3::new(b, a, h),
+                Vec3::new(b, b, h),
+                Vec3::new(a, b, h),
+            ];
+            if facing {
+                vertices.reverse();
+            }
+            scene.polygons.push(Polygon {
+                vertices,
+                material: 1,
+                object: 0,
+            });
+            let mesh = Mesh::build(&scene, Subdivision::Elements(256));
+            mesh.validate().unwrap();
+            let square: Vec<u8> = mesh.nodes[mesh.roots[0].start as usize]
                 .elements
                 .clone()
                 .map(|e| mesh.element(e as usize).level)
                 .collect();
-            assert!(
-                levels.windows(2).all(|w| w[0] == w[1]),
-                "source {s} straddles"
-            );
-        }
-        mesh.validate().unwrap();
+            square.iter().max().unwrap() - square.iter().min().unwrap()
+        };
+        assert_eq!(levels(true), contact::COVER_LEVELS);
+        assert_eq!(levels(false), CONTACT_LEVELS);
     }
 
     #[test]
