@@ -34,7 +34,7 @@ pub mod raycast;
 use glam::{DVec3, Vec3};
 
 use crate::accel::Bvh;
-use crate::mesh::{Face, Mesh};
+use crate::mesh::{Face, Mesh, NEAR_REFINEMENT};
 
 /// What a form-factor method needs to see: the mesh, its visibility structure, and the sources.
 #[derive(Clone, Copy, Debug)]
@@ -331,13 +331,23 @@ pub(crate) fn pair_unoccluded(g: &Geometry, receiver: &Receiver, e: usize, s: us
     unoccluded(receiver, &corners[..sides])
 }
 
+/// The side of element `e`'s receiver grid: `n`, or [`NEAR_REFINEMENT`] times more in the
+/// near field of another surface ([`crate::mesh::Node::near`]).
+fn grid(g: &Geometry, e: usize, n: u32) -> u32 {
+    if g.mesh.element(e).near {
+        n * NEAR_REFINEMENT
+    } else {
+        n
+    }
+}
+
 /// Computes `out[s] = pair(receiver, s)` for every source of one element.
 pub(crate) fn row_with<F>(g: &Geometry, n: u32, element: usize, out: &mut [f32], pair: F)
 where
     F: Fn(&Receiver, usize) -> f32,
 {
     let mut receiver = Receiver::default();
-    receiver.set(&g.mesh.element(element).face, n);
+    receiver.set(&g.mesh.element(element).face, grid(g, element, n));
     for (s, value) in out.iter_mut().enumerate() {
         *value = pair(&receiver, s);
     }
@@ -357,7 +367,7 @@ where
             let mut receiver = Receiver::default();
             for (k, value) in values.iter_mut().enumerate() {
                 let e = chunk * CHUNK + k;
-                receiver.set(&g.mesh.element(e).face, n);
+                receiver.set(&g.mesh.element(e).face, grid(g, e, n));
                 *value = pair(&receiver, e);
             }
         });

@@ -48,11 +48,10 @@ impl Mesh {
     /// Splits every element that another polygon's triangle crosses (see the module docs), and
     /// its crossed children, down to [`CONTACT_LEVELS`] more levels ([`COVER_LEVELS`] under a
     /// hovering outline; never below [`MAX_LEVEL`]).
-    pub fn refine_contacts(&mut self) {
+    pub fn refine_contacts(&mut self, bvh: &Bvh) {
         if self.triangles.is_empty() {
             return;
         }
-        let bvh = Bvh::build(&self.triangles);
         let reach = self
             .triangles
             .iter()
@@ -73,7 +72,7 @@ impl Mesh {
                 .copied()
                 .filter(|&(n, done)| {
                     self.nodes[n as usize].level < MAX_LEVEL
-                        && done < self.touched(&bvh, reach, &lights, n, done)
+                        && done < self.touched(bvh, reach, &lights, n, done)
                 })
                 .collect();
             if split.is_empty() {

@@ -16,6 +16,7 @@ mod contact;
 pub mod display;
 mod face;
 pub mod lit_mesh;
+mod near_field;
 mod patch;
 mod triangulate;
 
@@ -26,6 +27,7 @@ use glam::Vec3;
 pub use contact::CONTACT_LEVELS;
 pub use face::Face;
 pub use lit_mesh::LitMesh;
+pub use near_field::NEAR_REFINEMENT;
 pub use patch::Patch;
 
 use crate::Scene;
@@ -64,6 +66,9 @@ pub struct Node {
     pub children: Option<u32>,
     /// The elements below this node (itself, for a leaf): a range of [`Mesh::elements`].
     pub elements: Range<u32>,
+    /// Whether another surface lies in this node's near field, where form factors need a finer
+    /// receiver grid ([`Mesh::mark_near_field`]; children inherit it).
+    pub near: bool,
 }
 
 /// Patches and their element quadtrees, plus the triangles that the visibility structure needs.
@@ -109,6 +114,7 @@ impl Mesh {
                 level: 0,
                 children: None,
                 elements: 0..0,
+                near: false,
             }));
             mesh.roots.push(first..mesh.nodes.len() as u32);
             for r in first..mesh.nodes.len() as u32 {
@@ -133,7 +139,9 @@ impl Mesh {
                 }
             }
         }
-        mesh.refine_contacts();
+        let bvh = crate::accel::Bvh::build(&mesh.triangles);
+        mesh.refine_contacts(&bvh);
+        mesh.mark_near_field(&bvh);
         debug_assert_eq!(mesh.validate(), Ok(()));
         mesh
     }
@@ -145,7 +153,7 @@ impl Mesh {
             self.elements.push(n);
         } else {
             let node = &self.nodes[n as usize];
-            let (patch, level) = (node.patch, node.level + 1);
+            let (patch, level, near) = (node.patch, node.level + 1, node.near);
             let first = self.nodes.len() as u32;
             for face in node.face.split() {
                 self.nodes.push(Node {
@@ -154,6 +162,7 @@ impl Mesh {
                     level,
                     children: None,
                     elements: 0..0,
+                    near,
                 });
             }
             self.nodes[n as usize].children = Some(first);
@@ -174,6 +183,7 @@ impl Mesh {
             let node = &self.nodes[n as usize];
             assert!(node.children.is_none() && node.level < MAX_LEVEL);
             let (patch, level, faces) = (node.patch, node.level + 1, node.face.split());
+            let near = node.near;
             let first = self.nodes.len() as u32;
             self.nodes.extend(faces.into_iter().map(|face| Node {
                 face,
@@ -181,6 +191,7 @@ impl Mesh {
                 level,
                 children: None,
                 elements: 0..0,
+                near,
             }));
             self.nodes[n as usize].children = Some(first);
         }
