@@ -2,22 +2,25 @@
 //! and (when the scene has mirrors or glass) the two-pass ray tracer — side by side in one
 //! labelled image, all from one solve and one exposure.
 
+use std::io::IsTerminal;
 use std::time::Instant;
 
 use anyhow::Result;
 use radiosity::io::image_file::write_image;
 use radiosity::pipeline::Solved;
 use radiosity::render::local::{self, LocalSettings};
-use radiosity::render::raytrace::{self, RaytraceSettings};
+use radiosity::render::raytrace::{self, RaytraceSettings, Watch};
 use radiosity::render::{self, compare, tonemap, Image, RasterSettings};
 use radiosity::scene::Camera;
 use radiosity::Rgb;
 
 use crate::args::{CompareArgs, Mode};
+use crate::bars::Bars;
 use crate::job;
 
 /// The image of `solved` seen by `camera` in `mode`; `gather` is the final-gather ray count of
-/// the ray tracer, `shadows` whether local illumination casts shadows.
+/// the ray tracer, `shadows` whether local illumination casts shadows. The ray-traced modes
+/// report progress and stop on Ctrl-C ([`job::Interrupted`], nothing written).
 pub fn render_mode(
     solved: &Solved,
     camera: &Camera,
@@ -25,25 +28,34 @@ pub fn render_mode(
     raster: &RasterSettings,
     gather: u32,
     shadows: bool,
-) -> Image {
+    quiet: bool,
+) -> Result<Image> {
     let (scene, mesh, lit) = (&solved.scene, &solved.mesh, &solved.lit);
-    match mode {
-        Mode::Radiosity => render::render(lit, camera, raster),
+    let bars = Bars::new(!quiet && std::io::stderr().is_terminal());
+    let stop = job::stop_flag();
+    let watch = Watch {
+        progress: &bars,
+        stop: Some(&stop),
+    };
+    let image = match mode {
+        Mode::Radiosity => Some(render::render(lit, camera, raster)),
         Mode::Local => {
             let settings = LocalSettings {
                 shadows,
                 ..LocalSettings::default()
             };
-            local::render(scene, mesh, lit, camera, raster, &settings)
+            local::render(scene, mesh, lit, camera, raster, &settings, &watch)
         }
         Mode::Raytrace => {
             let settings = RaytraceSettings {
                 gather,
                 ..RaytraceSettings::default()
             };
-            raytrace::render(scene, mesh, lit, camera, raster, &settings)
+            raytrace::render(scene, mesh, lit, camera, raster, &settings, &watch)
         }
-    }
+    };
+    image
+        .ok_or_else(|| job::Interrupted("interrupted while rendering: wrote nothing".into()).into())
 }
 
 /// `radiosity compare`.
@@ -69,10 +81,16 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         let mut panels = Vec::with_capacity(modes.len());
         for (label, mode) in modes {
             let t = Instant::now();
-            panels.push((
-                label,
-                render_mode(&solved, &camera, mode, &raster, args.gather, true),
-            ));
+            let image = render_mode(
+                &solved,
+                &camera,
+                mode,
+                &raster,
+                args.gather,
+                true,
+                common.quiet,
+            )?;
+            panels.push((label, image));
             job::say(
                 common,
                 &format!("{label}: rendered in {:.2} s", t.elapsed().as_secs_f64()),

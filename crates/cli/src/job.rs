@@ -111,7 +111,8 @@ fn render_job(args: &RenderArgs) -> Result<()> {
         &raster,
         args.gather,
         !args.no_shadows,
-    );
+        common.quiet,
+    )?;
     let exposure = args
         .exposure
         .unwrap_or_else(|| tonemap::auto_exposure(&image));
@@ -166,18 +167,14 @@ pub(crate) fn run_solve(scene: Scene, common: &CommonArgs) -> Result<Solved> {
     }
 }
 
-/// A solve stopped by Ctrl-C whose outputs were written: `main` reports it and exits with
-/// status 130 (the shell's convention for SIGINT).
+/// A job stopped by Ctrl-C, with the line that says what it wrote: `main` prints it and exits
+/// with status 130 (the shell's convention for SIGINT).
 #[derive(Debug)]
-pub struct Interrupted(pub usize);
+pub struct Interrupted(pub String);
 
 impl std::fmt::Display for Interrupted {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "interrupted after {} iterations: wrote the solution so far",
-            self.0
-        )
+        f.write_str(&self.0)
     }
 }
 
@@ -185,7 +182,7 @@ impl std::error::Error for Interrupted {}
 
 /// The stop flag, set by the first Ctrl-C; the second ends the process at once (status 130).
 /// The handler is installed on first use; if it cannot be, Ctrl-C keeps its default effect.
-fn stop_flag() -> Arc<AtomicBool> {
+pub(crate) fn stop_flag() -> Arc<AtomicBool> {
     static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
     Arc::clone(FLAG.get_or_init(|| {
         let flag = Arc::new(AtomicBool::new(false));
@@ -298,7 +295,11 @@ pub(crate) fn finish(
         ),
     );
     if solved.solution.interrupted {
-        return Err(Interrupted(solved.solution.iterations).into());
+        return Err(Interrupted(format!(
+            "interrupted after {} iterations: wrote the solution so far",
+            solved.solution.iterations
+        ))
+        .into());
     }
     Ok(())
 }

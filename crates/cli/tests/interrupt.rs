@@ -223,3 +223,37 @@ fn a_mismatched_or_broken_checkpoint_is_refused_with_one_line() {
     assert!(!dir.join("b.json").exists() && !dir.join("c.json").exists());
     std::fs::remove_dir_all(&dir).expect("cleanup");
 }
+
+#[test]
+fn sigint_during_the_render_stage_stops_it_and_writes_nothing() {
+    // A quick solve (200 elements) and a long ray-traced render (a 256-ray final gather per
+    // pixel): the signal at 3 s falls in the render, which used to ignore it and report
+    // success.
+    let dir = scratch("sigint-render");
+    let mut cmd = radiosity();
+    cmd.args([
+        "render",
+        "cornell",
+        "--elements",
+        "200",
+        "--mode",
+        "raytrace",
+    ])
+    .args(["--gather", "256", "--width", "256", "--height", "256", "-o"])
+    .arg(dir.join("out.png"))
+    .arg("--stats")
+    .arg(dir.join("stats.json"))
+    .stdout(Stdio::null())
+    .stderr(Stdio::piped());
+    let out = interrupted_after_3_s(cmd);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(
+        stderr
+            .lines()
+            .any(|l| l == "interrupted while rendering: wrote nothing"),
+        "{stderr}"
+    );
+    assert!(!dir.join("out.png").exists() && !dir.join("stats.json").exists());
+    std::fs::remove_dir_all(&dir).expect("cleanup");
+}

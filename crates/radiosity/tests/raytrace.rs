@@ -10,7 +10,7 @@ use radiosity::pipeline::{self, Settings, Solved};
 use radiosity::progress::Silent;
 use radiosity::render::local::{self, LocalSettings};
 use radiosity::render::raytrace::optics::{fresnel_dielectric, reflect, refract};
-use radiosity::render::raytrace::{self, RaytraceSettings};
+use radiosity::render::raytrace::{self, RaytraceSettings, Watch};
 use radiosity::render::{self as raster, Image, Projection, RasterSettings};
 use radiosity::{Rgb, Scene};
 
@@ -44,7 +44,16 @@ fn centred(max_depth: u32, gather: u32) -> RaytraceSettings {
 
 fn trace(s: &Solved, size: u32, settings: &RaytraceSettings) -> Image {
     let camera = &s.scene.cameras[0];
-    raytrace::render(&s.scene, &s.mesh, &s.lit, camera, &image(size, 1), settings)
+    raytrace::render(
+        &s.scene,
+        &s.mesh,
+        &s.lit,
+        camera,
+        &image(size, 1),
+        settings,
+        &Watch::SILENT,
+    )
+    .expect("not stopped")
 }
 
 /// The pixel showing world point `p`.
@@ -271,7 +280,9 @@ fn a_blocker_casts_its_shadow_where_geometry_says() {
         camera,
         &image(size, 1),
         &settings,
-    );
+        &Watch::SILENT,
+    )
+    .expect("not stopped");
     let gathered = trace(&s, size, &centred(4, 64));
 
     let rho = 0.5;
@@ -399,8 +410,15 @@ fn images_do_not_depend_on_the_thread_count() {
             .build()
             .unwrap()
             .install(|| {
-                let a =
-                    raytrace::render(&s.scene, &s.mesh, &s.lit, camera, &image(40, 4), &settings);
+                let a = raytrace::render(
+                    &s.scene,
+                    &s.mesh,
+                    &s.lit,
+                    camera,
+                    &image(40, 4),
+                    &settings,
+                    &Watch::SILENT,
+                );
                 let b = local::render(
                     &s.scene,
                     &s.mesh,
@@ -408,6 +426,7 @@ fn images_do_not_depend_on_the_thread_count() {
                     camera,
                     &image(40, 4),
                     &LocalSettings::default(),
+                    &Watch::SILENT,
                 );
                 (a, b)
             })

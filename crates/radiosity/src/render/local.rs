@@ -23,8 +23,8 @@
 use glam::Vec3;
 
 use super::raytrace::optics::reflect;
-use super::raytrace::render_primary;
 use super::raytrace::world::World;
+use super::raytrace::{render_primary, Watch};
 use super::{Image, RasterSettings};
 use crate::mesh::{LitMesh, Mesh};
 use crate::scene::Camera;
@@ -75,7 +75,7 @@ pub fn default_ambient(mesh: &Mesh) -> Rgb {
 }
 
 /// Renders the local-illumination image of `scene` (its geometry taken from `lit`, the lit
-/// mesh of `mesh`; the radiosity values are not used).
+/// mesh of `mesh`; the radiosity values are not used). `None` if `watch` stopped it.
 #[must_use]
 pub fn render(
     scene: &Scene,
@@ -84,43 +84,50 @@ pub fn render(
     camera: &Camera,
     image: &RasterSettings,
     settings: &LocalSettings,
-) -> Image {
+    watch: &Watch,
+) -> Option<Image> {
     let world = World::new(scene, mesh, lit);
     let ambient = settings.ambient.unwrap_or_else(|| default_ambient(mesh));
     let n = settings.phong_exponent.max(0.0);
-    render_primary(camera, image, settings.jitter, |origin, dir, sampler| {
-        let Some(hit) = world.intersect(origin, dir, f32::INFINITY) else {
-            return Rgb::ZERO;
-        };
-        let m = world.material(hit.triangle);
-        if hit.diffuse.is_none() && !(m.two_sided) {
-            return Rgb::ZERO; // the back of a one-sided surface
-        }
-        let emitted = if hit.front {
-            world.emitted(hit.triangle)
-        } else {
-            Rgb::ZERO
-        };
-        let diffuse = m.reflectance / std::f64::consts::PI;
-        let specular = m.specular * ((n + 2.0) / std::f64::consts::TAU);
-        let view = -dir;
-        let shading = hit.shading;
-        let brdf = |to_light: Vec3| {
-            if specular.max_element() <= 0.0 {
-                return diffuse;
+    render_primary(
+        camera,
+        image,
+        settings.jitter,
+        watch,
+        |origin, dir, sampler| {
+            let Some(hit) = world.intersect(origin, dir, f32::INFINITY) else {
+                return Rgb::ZERO;
+            };
+            let m = world.material(hit.triangle);
+            if hit.diffuse.is_none() && !(m.two_sided) {
+                return Rgb::ZERO; // the back of a one-sided surface
             }
-            let mirror = reflect(-to_light, shading);
-            let cos_alpha = f64::from(mirror.dot(view).max(0.0));
-            diffuse + specular * cos_alpha.powf(n)
-        };
-        let direct = world.direct(
-            hit.point,
-            hit.shading,
-            settings.shadow_samples,
-            settings.shadows,
-            sampler,
-            brdf,
-        );
-        emitted + direct + diffuse * ambient
-    })
+            let emitted = if hit.front {
+                world.emitted(hit.triangle)
+            } else {
+                Rgb::ZERO
+            };
+            let diffuse = m.reflectance / std::f64::consts::PI;
+            let specular = m.specular * ((n + 2.0) / std::f64::consts::TAU);
+            let view = -dir;
+            let shading = hit.shading;
+            let brdf = |to_light: Vec3| {
+                if specular.max_element() <= 0.0 {
+                    return diffuse;
+                }
+                let mirror = reflect(-to_light, shading);
+                let cos_alpha = f64::from(mirror.dot(view).max(0.0));
+                diffuse + specular * cos_alpha.powf(n)
+            };
+            let direct = world.direct(
+                hit.point,
+                hit.shading,
+                settings.shadow_samples,
+                settings.shadows,
+                sampler,
+                brdf,
+            );
+            emitted + direct + diffuse * ambient
+        },
+    )
 }

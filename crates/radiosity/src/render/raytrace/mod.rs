@@ -49,6 +49,7 @@ pub mod world;
 use glam::Vec3;
 
 use self::optics::{fresnel_dielectric, reflect, refract};
+pub use self::sample::Watch;
 use self::sample::{cosine_direction, render_tiles, Sampler};
 use self::world::{SurfaceHit, World};
 use super::{Image, Projection, RasterSettings};
@@ -98,7 +99,7 @@ pub fn has_specular(scene: &Scene) -> bool {
 
 /// Ray traces the radiance image of the solved scene: `lit` is the lit mesh of `mesh`, which
 /// was built from `scene`. Never panics on degenerate input; rays that leave the scene see
-/// black.
+/// black. `None` if `watch` stopped it.
 #[must_use]
 pub fn render(
     scene: &Scene,
@@ -107,15 +108,20 @@ pub fn render(
     camera: &Camera,
     image: &RasterSettings,
     settings: &RaytraceSettings,
-) -> Image {
+    watch: &Watch,
+) -> Option<Image> {
     let world = World::new(scene, mesh, lit);
     let tracer = Tracer {
         world: &world,
         settings,
     };
-    render_primary(camera, image, settings.jitter, |origin, dir, sampler| {
-        tracer.trace(origin, dir, 0, Rgb::ONE, sampler)
-    })
+    render_primary(
+        camera,
+        image,
+        settings.jitter,
+        watch,
+        |origin, dir, sampler| tracer.trace(origin, dir, 0, Rgb::ONE, sampler),
+    )
 }
 
 /// Renders the image through `camera`, a pixel being the mean of `shade(origin, dir, sampler)`
@@ -125,8 +131,9 @@ pub(crate) fn render_primary<F>(
     camera: &Camera,
     image: &RasterSettings,
     jitter: bool,
+    watch: &Watch,
     shade: F,
-) -> Image
+) -> Option<Image>
 where
     F: Fn(Vec3, Vec3, &mut Sampler) -> Rgb + Sync,
 {
@@ -136,6 +143,7 @@ where
         image.height,
         image.samples_per_pixel,
         jitter,
+        watch,
         |px, py, sampler| {
             let (origin, dir) = proj.primary_ray(px, py);
             shade(origin, dir, sampler)

@@ -11,11 +11,37 @@
 //! the second. Cosine-weighted hemisphere directions use Malley's method: a uniform point on the
 //! unit disk, r = √u₁, φ = 2πu₂, lifted to the hemisphere, has density cos θ / π.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use glam::Vec3;
 use rayon::prelude::*;
 
+use crate::progress::{Progress, Silent};
 use crate::render::Image;
 use crate::Rgb;
+
+/// What a long render reports to and listens to: progress, in tiles, under the stage
+/// "render", and a stop flag read before every tile (a tile of a 64-ray gather takes well
+/// under a second).
+#[derive(Clone, Copy)]
+pub struct Watch<'a> {
+    /// Told of every finished tile.
+    pub progress: &'a dyn Progress,
+    /// Set (by Ctrl-C, say) to stop the render: it then returns no image.
+    pub stop: Option<&'a AtomicBool>,
+}
+
+impl Watch<'_> {
+    /// Reports nothing and never stops.
+    pub const SILENT: Watch<'static> = Watch {
+        progress: &Silent,
+        stop: None,
+    };
+
+    fn stopped(&self) -> bool {
+        self.stop.is_some_and(|s| s.load(Ordering::Relaxed))
+    }
+}
 
 /// Side of the square tiles images are rendered in parallel over.
 const TILE: u32 = 16;
@@ -86,14 +112,15 @@ pub fn triangle_point(tri: &[Vec3; 3], u1: f32, u2: f32) -> Vec3 {
 /// sampler)` over an s × s jittered grid of points (px, py) in it (s from
 /// [`grid_side`]`(samples_per_pixel)`; `jitter = false` puts them at the sub-square centres, as
 /// the rasterizer does). Tiles of 16 × 16 pixels run in parallel; the result does not depend on
-/// the number of threads.
+/// the number of threads. `None` if `watch` was told to stop before the last tile.
 pub fn render_tiles<F>(
     width: u32,
     height: u32,
     samples_per_pixel: u32,
     jitter: bool,
+    watch: &Watch,
     shade: F,
-) -> Image
+) -> Option<Image>
 where
     F: Fn(f32, f32, &mut Sampler) -> Rgb + Sync,
 {
@@ -101,9 +128,13 @@ where
     let side = grid_side(samples_per_pixel);
     let norm = 1.0 / f64::from(side * side);
     let (tiles_x, tiles_y) = (width.div_ceil(TILE), height.div_ceil(TILE));
+    watch.progress.start("render", u64::from(tiles_x * tiles_y));
     let tiles: Vec<(u32, Vec<Rgb>)> = (0..tiles_x * tiles_y)
         .into_par_iter()
         .map(|tile| {
+            if watch.stopped() {
+                return (tile, Vec::new());
+            }
             let (x0, y0) = ((tile % tiles_x) * TILE, (tile / tiles_x) * TILE);
             let mut out = Vec::with_capacity((TILE * TILE) as usize);
             for y in y0..(y0 + TILE).min(height) {
@@ -125,9 +156,14 @@ where
                     out.push(sum * norm);
                 }
             }
+            watch.progress.advance(1);
             (tile, out)
         })
         .collect();
+    watch.progress.finish();
+    if watch.stopped() {
+        return None;
+    }
     for (tile, pixels) in tiles {
         let (x0, y0) = ((tile % tiles_x) * TILE, (tile / tiles_x) * TILE);
         let w = (x0 + TILE).min(width) - x0;
@@ -136,7 +172,7 @@ where
             image.pixels[y as usize * width as usize + x as usize] = p;
         }
     }
-    image
+    Some(image)
 }
 
 #[cfg(test)]
@@ -170,10 +206,39 @@ mod tests {
     }
 
     #[test]
+    fn a_set_stop_flag_gives_no_image_and_every_tile_is_reported() {
+        use std::sync::atomic::AtomicU64;
+        struct Count(AtomicU64);
+        impl Progress for Count {
+            fn start(&self, stage: &str, total: u64) {
+                assert_eq!((stage, total), ("render", 6));
+            }
+            fn advance(&self, n: u64) {
+                self.0.fetch_add(n, Ordering::Relaxed);
+            }
+            fn finish(&self) {}
+        }
+        let count = Count(AtomicU64::new(0));
+        let watch = Watch {
+            progress: &count,
+            stop: None,
+        };
+        assert!(render_tiles(37, 21, 1, false, &watch, |_, _, _| Rgb::ONE).is_some());
+        assert_eq!(count.0.load(Ordering::Relaxed), 6, "3 × 2 tiles of 16²");
+        let stop = AtomicBool::new(true);
+        let watch = Watch {
+            progress: &Silent,
+            stop: Some(&stop),
+        };
+        assert!(render_tiles(37, 21, 1, false, &watch, |_, _, _| Rgb::ONE).is_none());
+    }
+
+    #[test]
     fn tiles_cover_every_pixel_once() {
-        let image = render_tiles(37, 21, 4, true, |px, py, _| {
+        let image = render_tiles(37, 21, 4, true, &Watch::SILENT, |px, py, _| {
             Rgb::new(f64::from(px.floor()), f64::from(py.floor()), 1.0)
-        });
+        })
+        .expect("not stopped");
         for y in 0..21 {
             for x in 0..37 {
                 assert_eq!(image.get(x, y), Rgb::new(f64::from(x), f64::from(y), 1.0));
