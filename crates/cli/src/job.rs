@@ -369,7 +369,23 @@ fn check_directory(path: &Path) -> Result<()> {
             dir.display()
         );
     }
-    Ok(())
+    // Writable: create (and remove) a probe file beside it, as the atomic write will.
+    let probe = dir.join(format!(".radiosity-probe-{}", std::process::id()));
+    match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+    {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) => bail!(
+            "{}: cannot write in directory {}: {e}",
+            path.display(),
+            dir.display()
+        ),
+    }
 }
 
 /// The lower-case extension of `path` (empty if none).

@@ -279,6 +279,20 @@ fn bad_inputs_exit_2_with_one_line_and_no_output() {
         &with(&["render", "bad.toml", "-o", "x.png"]),
         &[at.as_str(), "colour"],
     );
+    // An output in a directory that cannot be written: refused before any work, so the good
+    // output beside it is not written either, and the cause said once.
+    assert_fails(
+        "unwritable-output",
+        &with(&[
+            "render",
+            "room.toml",
+            "-o",
+            "good.png",
+            "-o",
+            "/sys/bad.png",
+        ]),
+        &["/sys/bad.png", "cannot write in directory /sys"],
+    );
     assert_fails(
         "bad-width",
         &with(&["render", "room.toml", "-o", "x.png", "--width", "wide"]),

@@ -31,13 +31,14 @@ pub enum ImageError {
         /// Its extension (empty when it has none).
         extension: String,
     },
-    /// The file system or an encoder failed.
-    #[error("{}: {source}", path.display())]
+    /// The file system or an encoder failed. The cause is part of the message, not a separate
+    /// source, so a chain printer (anyhow's `{:#}`) says it once.
+    #[error("{}: {cause}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
         /// The cause.
-        source: io::Error,
+        cause: io::Error,
     },
     /// A file read back is not a valid image of its format.
     #[error("{}: {reason}", path.display())]
@@ -61,9 +62,9 @@ pub fn write_image(path: &Path, image: &Image, exposure_stops: f32) -> Result<()
         .extension()
         .map(|e| e.to_string_lossy().to_lowercase())
         .unwrap_or_default();
-    let io_error = |source| ImageError::Io {
+    let io_error = |cause| ImageError::Io {
         path: path.to_path_buf(),
-        source,
+        cause,
     };
     match extension.as_str() {
         "png" => write_atomic(path, |w| write_png(w, image, exposure_stops)).map_err(io_error),
@@ -172,9 +173,9 @@ fn encode_exr(image: &Image) -> io::Result<Vec<u8>> {
 /// [`ImageError::Io`] if the file cannot be read, [`ImageError::Format`] if it is not a
 /// complete PFM file.
 pub fn read_pfm(path: &Path) -> Result<Image, ImageError> {
-    let bytes = std::fs::read(path).map_err(|source| ImageError::Io {
+    let bytes = std::fs::read(path).map_err(|cause| ImageError::Io {
         path: path.to_path_buf(),
-        source,
+        cause,
     })?;
     parse_pfm(&bytes).map_err(|reason| ImageError::Format {
         path: path.to_path_buf(),
@@ -253,6 +254,16 @@ fn parse_pfm(bytes: &[u8]) -> Result<Image, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_io_error_says_its_cause_once() {
+        let err = write_image(Path::new("/sys/radiosity.png"), &Image::new(1, 1), 0.0)
+            .expect_err("/sys takes no files");
+        // The cause is in the message and not repeated as a source, which a chain printer
+        // would append a second time.
+        assert!(std::error::Error::source(&err).is_none());
+        assert!(err.to_string().starts_with("/sys/radiosity.png: "), "{err}");
+    }
 
     fn scratch(name: &str) -> PathBuf {
         let dir = std::env::temp_dir().join(format!("radiosity-image-{}", std::process::id()));
