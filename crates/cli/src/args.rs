@@ -65,7 +65,7 @@ pub struct CurveArgs {
 /// `radiosity hemicube`.
 #[derive(Debug, Args)]
 pub struct HemicubeArgs {
-    /// Scene file (.toml, .obj) or built-in scene name (see `radiosity scenes`).
+    /// Scene file (.toml, .obj, .gltf, .glb) or built-in scene name (see `radiosity scenes`).
     pub scene: String,
     /// The element whose hemicube to draw (0 to elements − 1).
     #[arg(long, value_name = "ID")]
@@ -113,27 +113,46 @@ pub struct InfoArgs {
     pub max_element_area: Option<f64>,
 }
 
+/// Parses `--samples`: a square from 1 to 64 (the s × s grid of a pixel's samples; a count
+/// between squares would be rounded down without a word).
+fn square_samples(text: &str) -> Result<u32, String> {
+    let n: u32 = text
+        .parse()
+        .map_err(|_| format!("`{text}` is not a whole number"))?;
+    let side = (1..=8).find(|s| s * s >= n).unwrap_or(9);
+    if !(1..=64).contains(&n) || side * side != n {
+        return Err(format!(
+            "{n} is not a square from 1 to 64 (1, 4, 9, 16, 25, 36, 49, 64): the samples of a \
+             pixel form an s × s grid"
+        ));
+    }
+    Ok(n)
+}
+
 /// `radiosity render`.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// Scene file (.toml, .obj) or built-in scene name (see `radiosity scenes`).
+    /// Scene file (.toml, .obj, .gltf, .glb) or built-in scene name (see `radiosity scenes`).
     #[arg(default_value = "cornell")]
     pub scene: String,
     /// Image to write (repeatable): .png is tone-mapped sRGB; .exr, .hdr, .pfm hold linear
     /// radiance. Default: <scene name>.png in the current directory.
     #[arg(short = 'o', long = "output", value_name = "PATH")]
     pub outputs: Vec<PathBuf>,
-    /// Image width in pixels (default: the scene's [render] width).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65_536))]
+    /// Image width in pixels, at most 16384 as in the scene file (default: the scene's
+    /// [render] width).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_384))]
     pub width: Option<u32>,
-    /// Image height in pixels (default: the scene's [render] height).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65_536))]
+    /// Image height in pixels, at most 16384 as in the scene file (default: the scene's
+    /// [render] height).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_384))]
     pub height: Option<u32>,
     /// Camera to render from, by name (default: the scene's first camera).
     #[arg(long, value_name = "NAME")]
     pub camera: Option<String>,
-    /// Antialiasing samples per pixel, taken as an s×s grid (1, 4, 9, ... 64).
-    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
+    /// Antialiasing samples per pixel, taken as an s×s grid: a square, 1, 4, 9, ... 64
+    /// (others are refused).
+    #[arg(long, default_value_t = 4, value_parser = square_samples)]
     pub samples: u32,
     /// Exposure of .png outputs in stops (radiance × 2^STOPS); default: automatic (the
     /// log-average luminance maps to middle grey).
@@ -158,7 +177,7 @@ pub struct RenderArgs {
 /// `radiosity compare`.
 #[derive(Debug, Args)]
 pub struct CompareArgs {
-    /// Scene file (.toml, .obj) or built-in scene name (see `radiosity scenes`).
+    /// Scene file (.toml, .obj, .gltf, .glb) or built-in scene name (see `radiosity scenes`).
     #[arg(default_value = "cornell-spheres")]
     pub scene: String,
     /// The side-by-side image to write (.png, .exr, .hdr, .pfm).
@@ -178,8 +197,9 @@ pub struct CompareArgs {
     /// Camera to render from, by name (default: the scene's first camera).
     #[arg(long, value_name = "NAME")]
     pub camera: Option<String>,
-    /// Antialiasing samples per pixel, taken as an s×s grid (1, 4, 9, ... 64).
-    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
+    /// Antialiasing samples per pixel, taken as an s×s grid: a square, 1, 4, 9, ... 64
+    /// (others are refused).
+    #[arg(long, default_value_t = 4, value_parser = square_samples)]
     pub samples: u32,
     /// Exposure in stops (default: automatic, from the radiosity panel; all panels share it).
     #[arg(long, value_name = "STOPS", allow_negative_numbers = true, value_parser = finite_f32)]
@@ -196,7 +216,7 @@ pub struct CompareArgs {
 /// `radiosity solve`.
 #[derive(Debug, Args)]
 pub struct SolveArgs {
-    /// Scene file (.toml, .obj) or built-in scene name (see `radiosity scenes`).
+    /// Scene file (.toml, .obj, .gltf, .glb) or built-in scene name (see `radiosity scenes`).
     pub scene: String,
     /// Options shared with `render`.
     #[command(flatten)]

@@ -40,6 +40,9 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if args.gather > 0 && args.mode != Mode::Raytrace {
         bail!("--gather applies to --mode raytrace only");
     }
+    if args.no_shadows && args.mode != Mode::Local {
+        bail!("--no-shadows applies to --mode local only");
+    }
     for path in &args.outputs {
         check_output(path, "image", &IMAGE_EXTENSIONS)?;
     }
@@ -362,6 +365,13 @@ fn check_directory(path: &Path) -> Result<()> {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
+    if dir.is_file() {
+        bail!(
+            "{}: cannot write: {} is a file, not a directory",
+            path.display(),
+            dir.display()
+        );
+    }
     if !dir.is_dir() {
         bail!(
             "{}: cannot write: directory {} does not exist",

@@ -293,6 +293,32 @@ fn bad_inputs_exit_2_with_one_line_and_no_output() {
         ]),
         &["/sys/bad.png", "cannot write in directory /sys"],
     );
+    // Flags that did not do what they said are refused with the reason.
+    assert_fails(
+        "samples-not-square",
+        &with(&["render", "room.toml", "-o", "x.png", "--samples", "3"]),
+        &["--samples", "not a square"],
+    );
+    assert_fails(
+        "no-shadows-without-local",
+        &with(&["render", "room.toml", "-o", "x.png", "--no-shadows"]),
+        &["--no-shadows", "--mode local"],
+    );
+    assert_fails(
+        "width-beyond-the-scene-limit",
+        &with(&["render", "room.toml", "-o", "x.png", "--width", "65536"]),
+        &["--width", "16384"],
+    );
+    assert_fails(
+        "directory-as-scene",
+        &with(&["render", ".", "-o", "x.png"]),
+        &["is a directory"],
+    );
+    assert_fails(
+        "file-as-directory",
+        &with(&["render", "room.toml", "-o", "room.toml/x.png"]),
+        &["room.toml is a file, not a directory"],
+    );
     assert_fails(
         "bad-width",
         &with(&["render", "room.toml", "-o", "x.png", "--width", "wide"]),

@@ -39,6 +39,12 @@ impl Scene {
     /// The file cannot be read, has another extension, or is not a valid scene; the error
     /// names the file, line, column and key where they apply.
     pub fn load(path: &Path) -> Result<Self, SceneError> {
+        if path.is_dir() {
+            return Err(SceneError::in_file(
+                path,
+                "is a directory, not a scene file (.toml, .obj, .gltf or .glb)",
+            ));
+        }
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
