@@ -244,14 +244,16 @@ pub struct CommonArgs {
     /// Solver of the radiosity equation.
     #[arg(long, value_enum, default_value_t = Solver::Auto)]
     pub solver: Solver,
-    /// Form-factor method (default: the engine's choice).
+    /// Form-factor method [default: raycast]
     #[arg(long, value_enum, value_name = "METHOD")]
     pub form_factors: Option<FormFactors>,
-    /// Subdivide into about N elements in total.
+    /// Subdivide into about N elements in total (gathering and progressive solvers; contact
+    /// lines add some) [default: 4096]
     #[arg(long, value_name = "N", conflicts_with = "max_element_area",
           value_parser = clap::value_parser!(u64).range(1..))]
     pub elements: Option<u64>,
-    /// Subdivide until no element is larger than A (scene units²).
+    /// Subdivide until no element is larger than A (scene units²; gathering and progressive
+    /// solvers).
     #[arg(long, value_name = "A", value_parser = positive_f64)]
     pub max_element_area: Option<f64>,
     /// Most light sources: quadtree nodes that shoot the mean radiosity of their elements
@@ -264,10 +266,11 @@ pub struct CommonArgs {
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(2..=4096))]
     pub hemicube_resolution: Option<u32>,
     /// Quadrature points per receiver element, as an N × N grid (ray-cast and analytic form
-    /// factors: Lambert's formula at each point; hemicube: one hemicube at each point).
+    /// factors: Lambert's formula at each point; hemicube: one hemicube at each point); twice
+    /// as many per side on elements that another surface touches [default: 2]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=16))]
     pub quadrature: Option<u32>,
-    /// Shadow rays per element–source pair (ray-cast form factors).
+    /// Shadow rays per element–source pair (ray-cast form factors) [default: 16]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub rays: Option<u32>,
     /// Hierarchical solver: refine a link while it moves more than this fraction of the emitted
@@ -278,10 +281,10 @@ pub struct CommonArgs {
     /// default a millionth of the total area).
     #[arg(long, value_name = "A", value_parser = positive_f64)]
     pub min_element_area: Option<f64>,
-    /// Stop iterating when the residual falls below this (relative).
+    /// Stop iterating when the residual falls below this (relative) [default: 1e-4]
     #[arg(long, value_parser = positive_f64)]
     pub tolerance: Option<f64>,
-    /// Stop after this many iterations.
+    /// Stop after this many iterations [default: 100000]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     pub max_iterations: Option<u64>,
     /// Memory budget of the form-factor matrix and of the image, in bytes (suffixes K, M, G, T:
@@ -461,6 +464,31 @@ mod tests {
     use clap::CommandFactory;
 
     use super::*;
+
+    #[test]
+    fn help_states_the_engines_defaults() {
+        let mut cli = Cli::command();
+        let solve = cli.find_subcommand_mut("solve").expect("solve");
+        let help = solve.render_long_help().to_string();
+        let ff = radiosity::formfactor::Settings::default();
+        let solver = radiosity::solve::Settings::default();
+        for (flag, default) in [
+            ("--elements", radiosity::mesh::DEFAULT_ELEMENTS.to_string()),
+            ("--form-factors", ff.method.name().to_string()),
+            ("--sources", solver.max_sources.to_string()),
+            ("--quadrature", ff.quadrature.to_string()),
+            ("--rays", ff.rays.to_string()),
+            ("--tolerance", format!("{:e}", solver.tolerance)),
+            ("--max-iterations", solver.max_iterations.to_string()),
+        ] {
+            let at = help.find(&format!("{flag} ")).expect(flag);
+            let next = help[at + 2..]
+                .find("\n      --")
+                .map_or(help.len(), |k| at + 2 + k);
+            let text = help[at..next].replace('\n', " ");
+            assert!(text.contains(&format!("[default: {default}]")), "{text}");
+        }
+    }
 
     #[test]
     fn byte_counts_with_binary_suffixes() {

@@ -61,7 +61,7 @@ pub fn render_mode(
 /// `radiosity compare`.
 pub fn run(args: &CompareArgs) -> Result<()> {
     job::check_output(&args.output, "image", &job::IMAGE_EXTENSIONS)?;
-    job::check_common_outputs(&args.common)?;
+    job::check_common(&args.common)?;
     job::in_pool(args.common.threads, || {
         let start = Instant::now();
         let common = &args.common;

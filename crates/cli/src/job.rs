@@ -25,7 +25,7 @@ use radiosity::solve::checkpoint::{Checkpoint, Checkpointing, Control};
 use radiosity::stats::Timings;
 use radiosity::Scene;
 
-use crate::args::{CommonArgs, ExportColours, Mode, RenderArgs, SolveArgs};
+use crate::args::{CommonArgs, ExportColours, Mode, RenderArgs, SolveArgs, Solver};
 use crate::bars::Bars;
 use crate::compare;
 use crate::settings;
@@ -46,13 +46,13 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     for path in &args.outputs {
         check_output(path, "image", &IMAGE_EXTENSIONS)?;
     }
-    check_common_outputs(&args.common)?;
+    check_common(&args.common)?;
     in_pool(args.common.threads, || render_job(args))
 }
 
 /// `radiosity solve`.
 pub fn solve(args: &SolveArgs) -> Result<()> {
-    check_common_outputs(&args.common)?;
+    check_common(&args.common)?;
     in_pool(args.common.threads, || {
         let start = Instant::now();
         let (scene, load) = load(&args.scene, &args.common)?;
@@ -162,6 +162,17 @@ pub(crate) fn run_solve(scene: Scene, common: &CommonArgs) -> Result<Solved> {
     let control = control(common)?;
     let bars = Bars::new(!common.quiet && std::io::stderr().is_terminal());
     let solved = pipeline::solve_controlled(scene, &settings, &control, &bars);
+    if let Ok(solved) = &solved {
+        let subdivision = common.elements.is_some() || common.max_element_area.is_some();
+        if subdivision && common.solver == Solver::Auto && solved.solution.hierarchy.is_some() {
+            say(
+                common,
+                "note: the subdivision asked for needs a form-factor matrix beyond --max-memory; \
+                 the automatic choice took the hierarchical solver, which refines by --epsilon \
+                 instead (--solver progressive keeps the subdivision)",
+            );
+        }
+    }
     match (solved, &common.resume) {
         (Err(e), Some(path)) => {
             Err(e).with_context(|| format!("{}: cannot resume", path.display()))
@@ -324,8 +335,20 @@ fn html_exposure(colours: ExportColours) -> Option<f32> {
     }
 }
 
-/// Checks the `--stats` and `--export` paths.
-pub(crate) fn check_common_outputs(common: &CommonArgs) -> Result<()> {
+/// Checks the flags that contradict each other and the `--stats`, `--plot`, `--export` and
+/// `--checkpoint` paths, before any work.
+pub(crate) fn check_common(common: &CommonArgs) -> Result<()> {
+    if common.solver == Solver::Hierarchical {
+        if common.elements.is_some() {
+            bail!("--elements does not apply to --solver hierarchical, which refines by --epsilon");
+        }
+        if common.max_element_area.is_some() {
+            bail!(
+                "--max-element-area does not apply to --solver hierarchical (its smallest \
+                 element is --min-element-area)"
+            );
+        }
+    }
     if let Some(path) = &common.stats {
         check_directory(path)?;
     }

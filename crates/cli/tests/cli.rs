@@ -310,6 +310,18 @@ fn bad_inputs_exit_2_with_one_line_and_no_output() {
         &["--width", "16384"],
     );
     assert_fails(
+        "elements-under-hierarchical",
+        &with(&[
+            "render",
+            "room.toml",
+            "-o",
+            "x.png",
+            "--solver",
+            "hierarchical",
+        ]),
+        &["--elements", "--solver hierarchical", "--epsilon"],
+    );
+    assert_fails(
         "directory-as-scene",
         &with(&["render", ".", "-o", "x.png"]),
         &["is a directory"],
