@@ -232,12 +232,14 @@ pub struct CommonArgs {
     /// Plot the residual against iteration and time (.svg).
     #[arg(long, value_name = "PATH")]
     pub plot: Option<PathBuf>,
-    /// Export the lit mesh: .ply (float radiosity and 8-bit colours per vertex), .glb (glTF
-    /// with COLOR_0) or .html (a self-contained WebGL2 viewer).
+    /// Export the lit mesh (repeatable, one solve for all): .ply (float radiosity and 8-bit
+    /// colours per vertex), .glb (glTF with COLOR_0) or .html (a self-contained WebGL2 viewer).
     #[arg(long, value_name = "PATH")]
-    pub export: Option<PathBuf>,
+    pub export: Vec<PathBuf>,
     /// Colours of the export: `auto` (radiance exposed automatically, clamped to [0, 1]),
-    /// STOPS (radiance × 2^STOPS, clamped), or `linear` (.glb: radiance B/π unclamped).
+    /// STOPS (radiance × 2^STOPS, clamped), or `linear` (.glb: radiance B/π scaled so that
+    /// the brightest vertex is 1, nothing clipped; the absolute radiosity is in the
+    /// `_RADIOSITY` attribute).
     #[arg(long, value_name = "auto|linear|STOPS", default_value = "auto",
           allow_negative_numbers = true, value_parser = parse_export_colours)]
     pub export_exposure: ExportColours,

@@ -259,7 +259,7 @@ pub(crate) fn finish(
     load_seconds: f64,
     render_seconds: f64,
 ) -> Result<()> {
-    if let Some(path) = &common.export {
+    for path in &common.export {
         let names: Vec<String> = solved
             .scene
             .objects
@@ -355,7 +355,7 @@ pub(crate) fn check_common(common: &CommonArgs) -> Result<()> {
     if let Some(path) = &common.plot {
         check_output(path, "plot", &["svg"])?;
     }
-    if let Some(path) = &common.export {
+    for path in &common.export {
         check_output(path, "export", &["ply", "glb", "html"])?;
     }
     if let Some(path) = &common.checkpoint {

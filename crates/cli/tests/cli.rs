@@ -214,9 +214,12 @@ fn solve_exports_ply_with_object_names() {
     let body = ply.len() - header.len() - "end_header\n".len();
     assert_eq!(body, vertices * 27 + faces * 17);
 
-    // The same mesh as binary glTF: header magic, version 2, and the total length.
-    let out = solve(&["lit.glb"]);
+    // The same mesh as binary glTF (header magic, version 2, and the total length) and as the
+    // HTML viewer, both from one solve: --export repeats.
+    let out = solve(&["lit.glb", "--export", "lit.html"]);
     assert!(out.status.success(), "{}", stderr(&out));
+    let html = fs::read_to_string(dir.join("lit.html")).expect("html");
+    assert!(html.starts_with("<!DOCTYPE html>"), "{}", &html[..40]);
     let glb = fs::read(dir.join("lit.glb")).expect("glb");
     assert_eq!(&glb[..8], b"glTF\x02\0\0\0");
     assert_eq!(

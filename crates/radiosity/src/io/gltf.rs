@@ -12,8 +12,8 @@
 //! - `COLOR_0`: float VEC3, the vertex radiance L = B/π, chosen by [`VertexColours`]: exposed
 //!   (by a given exposure or the automatic one,
 //!   [`auto_exposure`](crate::render::tonemap::auto_exposure), Reinhard et al. 2002) and
-//!   clamped to [0, 1], or linear, scaled so that the brightest vertex is 1. glTF colours are linear; viewers apply the sRGB
-//!   encoding themselves;
+//!   clamped to [0, 1], or linear, scaled so that the brightest vertex is 1. glTF colours are
+//!   linear; viewers apply the sRGB encoding themselves;
 //! - `_RADIOSITY`: float VEC3, radiosity B in W·m⁻² (linear, unscaled) — an application-specific
 //!   attribute (leading underscore), ignored by viewers, for tools that want the physics.
 //!
