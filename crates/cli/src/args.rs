@@ -312,6 +312,10 @@ pub struct CommonArgs {
     /// No progress bars, warnings or messages on stderr (errors are still printed).
     #[arg(short, long)]
     pub quiet: bool,
+    /// When a solve is interrupted, replace existing outputs with the partial results too (by
+    /// default an interrupted run writes only outputs that do not exist yet).
+    #[arg(long)]
+    pub write_partial: bool,
 }
 
 /// `radiosity bench`.

@@ -120,8 +120,10 @@ fn render_job(args: &RenderArgs) -> Result<()> {
         .exposure
         .unwrap_or_else(|| tonemap::auto_exposure(&image));
     for path in &outputs {
-        write_image(path, &image, exposure)?;
-        say(common, &format!("wrote {}", path.display()));
+        if may_write(path, &solved, common) {
+            write_image(path, &image, exposure)?;
+            say(common, &format!("wrote {}", path.display()));
+        }
     }
     let render_seconds = render_start.elapsed().as_secs_f64();
     finish(&solved, common, start, load, render_seconds)
@@ -259,7 +261,11 @@ pub(crate) fn finish(
     load_seconds: f64,
     render_seconds: f64,
 ) -> Result<()> {
-    for path in &common.export {
+    for path in common
+        .export
+        .iter()
+        .filter(|p| may_write(p, solved, common))
+    {
         let names: Vec<String> = solved
             .scene
             .objects
@@ -281,13 +287,21 @@ pub(crate) fn finish(
         total: start.elapsed().as_secs_f64(),
         ..Timings::default()
     });
-    if let Some(path) = &common.plot {
+    if let Some(path) = common
+        .plot
+        .as_ref()
+        .filter(|p| may_write(p, solved, common))
+    {
         let history = &solved.solution.history;
         write_convergence_svg(path, &solved.scene.name, history)
             .with_context(|| format!("{}: cannot write", path.display()))?;
         say(common, &format!("wrote {}", path.display()));
     }
-    if let Some(path) = &common.stats {
+    if let Some(path) = common
+        .stats
+        .as_ref()
+        .filter(|p| may_write(p, solved, common))
+    {
         let mut json = serde_json::to_vec_pretty(&stats)?;
         json.push(b'\n');
         write_atomic(path, |w| w.write_all(&json))
@@ -310,7 +324,8 @@ pub(crate) fn finish(
     );
     if solved.solution.interrupted {
         return Err(Interrupted(format!(
-            "interrupted after {} iterations: wrote the solution so far",
+            "interrupted after {} iterations: wrote the solution so far (to new files only, \
+             unless --write-partial)",
             solved.solution.iterations
         ))
         .into());
@@ -429,6 +444,23 @@ fn extension(path: &Path) -> String {
 }
 
 /// A message on stderr unless `--quiet`.
+/// Whether to write `path`: always after a complete solve; after an interrupted one only if it
+/// does not exist yet or `--write-partial` asks (partial results never silently replace a
+/// finished run's files), saying so when it is kept.
+fn may_write(path: &Path, solved: &Solved, common: &CommonArgs) -> bool {
+    if !solved.solution.interrupted || common.write_partial || !path.exists() {
+        return true;
+    }
+    say(
+        common,
+        &format!(
+            "kept {}: the run was interrupted (--write-partial replaces it)",
+            path.display()
+        ),
+    );
+    false
+}
+
 pub(crate) fn say(common: &CommonArgs, message: &str) {
     if !common.quiet {
         let _ = writeln!(std::io::stderr(), "{message}");

@@ -329,6 +329,7 @@ impl Solved {
                 method: self.solution.method.to_string(),
                 iterations: self.solution.iterations,
                 residual: self.solution.residual,
+                interrupted: self.solution.interrupted,
             },
             timings: Timings {
                 mesh: self.timings.mesh,

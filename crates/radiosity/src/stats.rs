@@ -67,6 +67,10 @@ pub struct SolverStats {
     pub iterations: usize,
     /// Final residual (see [`crate::solve`] for its definition).
     pub residual: f64,
+    /// Whether the solve was stopped (Ctrl-C) before it converged: then `"interrupted": true`;
+    /// the key is left out of a complete run's stats.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub interrupted: bool,
 }
 
 /// Wall-clock seconds per stage.
