@@ -129,6 +129,46 @@ fn square_samples(text: &str) -> Result<u32, String> {
     Ok(n)
 }
 
+/// The camera from the command line: each given value replaces the chosen camera's.
+#[derive(Debug, Default, Args)]
+pub struct ViewArgs {
+    /// Eye position, X,Y,Z in scene units (replaces the camera's).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = point)]
+    pub eye: Option<[f32; 3]>,
+    /// The point looked at, X,Y,Z (replaces the camera's).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = point)]
+    pub target: Option<[f32; 3]>,
+    /// Up direction, X,Y,Z (replaces the camera's).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = point)]
+    pub up: Option<[f32; 3]>,
+    /// Vertical field of view in degrees, above 0 and below 180 (replaces the camera's).
+    #[arg(long, value_name = "DEGREES", value_parser = field_of_view)]
+    pub fov: Option<f32>,
+}
+
+/// Parses `X,Y,Z`: three finite numbers separated by commas.
+fn point(text: &str) -> Result<[f32; 3], String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let numbers: Vec<f32> = parts
+        .iter()
+        .filter_map(|p| p.parse::<f32>().ok().filter(|x| x.is_finite()))
+        .collect();
+    match numbers[..] {
+        [x, y, z] if parts.len() == 3 => Ok([x, y, z]),
+        _ => Err(format!("`{text}` is not three finite numbers X,Y,Z")),
+    }
+}
+
+/// Parses a vertical field of view: degrees strictly between 0 and 180.
+fn field_of_view(text: &str) -> Result<f32, String> {
+    match text.trim().parse::<f32>() {
+        Ok(x) if x > 0.0 && x < 180.0 => Ok(x),
+        _ => Err(format!(
+            "`{text}` is not an angle between 0 and 180 degrees"
+        )),
+    }
+}
+
 /// `radiosity render`.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
@@ -150,6 +190,9 @@ pub struct RenderArgs {
     /// Camera to render from, by name (default: the scene's first camera).
     #[arg(long, value_name = "NAME")]
     pub camera: Option<String>,
+    /// Changes to that camera from the command line.
+    #[command(flatten)]
+    pub view: ViewArgs,
     /// Antialiasing samples per pixel, taken as an s×s grid: a square, 1, 4, 9, ... 64
     /// (others are refused).
     #[arg(long, default_value_t = 4, value_parser = square_samples)]
@@ -197,6 +240,9 @@ pub struct CompareArgs {
     /// Camera to render from, by name (default: the scene's first camera).
     #[arg(long, value_name = "NAME")]
     pub camera: Option<String>,
+    /// Changes to that camera from the command line.
+    #[command(flatten)]
+    pub view: ViewArgs,
     /// Antialiasing samples per pixel, taken as an s×s grid: a square, 1, 4, 9, ... 64
     /// (others are refused).
     #[arg(long, default_value_t = 4, value_parser = square_samples)]

@@ -66,7 +66,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         let start = Instant::now();
         let common = &args.common;
         let (scene, load) = job::load(&args.scene, common)?;
-        let camera = job::pick_camera(&scene, args.camera.as_deref())?.clone();
+        let camera = job::pick_camera(&scene, args.camera.as_deref(), &args.view)?;
         let raster = RasterSettings {
             width: args.width.unwrap_or(scene.render.width),
             height: args.height.unwrap_or(scene.render.height),

@@ -25,7 +25,7 @@ use radiosity::solve::checkpoint::{Checkpoint, Checkpointing, Control};
 use radiosity::stats::Timings;
 use radiosity::Scene;
 
-use crate::args::{CommonArgs, ExportColours, Mode, RenderArgs, SolveArgs, Solver};
+use crate::args::{CommonArgs, ExportColours, Mode, RenderArgs, SolveArgs, Solver, ViewArgs};
 use crate::bars::Bars;
 use crate::compare;
 use crate::settings;
@@ -80,7 +80,7 @@ fn render_job(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     let common = &args.common;
     let (scene, load) = load(&args.scene, common)?;
-    let camera = pick_camera(&scene, args.camera.as_deref())?.clone();
+    let camera = pick_camera(&scene, args.camera.as_deref(), &args.view)?;
     let raster = RasterSettings {
         width: args.width.unwrap_or(scene.render.width),
         height: args.height.unwrap_or(scene.render.height),
@@ -139,22 +139,44 @@ pub(crate) fn load(arg: &str, common: &CommonArgs) -> Result<(Scene, f64)> {
     Ok((scene, start.elapsed().as_secs_f64()))
 }
 
-/// The camera named `name`, or the scene's first.
-pub(crate) fn pick_camera<'a>(scene: &'a Scene, name: Option<&str>) -> Result<&'a Camera> {
-    let Some(name) = name else {
-        return scene
+/// The camera named `name`, or the scene's first, with the changes of `view` (`--eye`,
+/// `--target`, `--up`, `--fov`), refused if they leave no direction to look in.
+pub(crate) fn pick_camera(scene: &Scene, name: Option<&str>, view: &ViewArgs) -> Result<Camera> {
+    let mut camera = match name {
+        None => scene
             .cameras
             .first()
-            .with_context(|| format!("scene `{}` has no camera", scene.name));
-    };
-    scene.camera(name).with_context(|| {
-        let known: Vec<&str> = scene.cameras.iter().map(|c| c.name.as_str()).collect();
-        format!(
-            "--camera: unknown camera `{name}` in scene `{}` (defined: {})",
-            scene.name,
-            known.join(", ")
-        )
-    })
+            .with_context(|| format!("scene `{}` has no camera", scene.name))?,
+        Some(name) => scene.camera(name).with_context(|| {
+            let known: Vec<&str> = scene.cameras.iter().map(|c| c.name.as_str()).collect();
+            format!(
+                "--camera: unknown camera `{name}` in scene `{}` (defined: {})",
+                scene.name,
+                known.join(", ")
+            )
+        })?,
+    }
+    .clone();
+    if let Some(eye) = view.eye {
+        camera.eye = eye.into();
+    }
+    if let Some(target) = view.target {
+        camera.target = target.into();
+    }
+    if let Some(up) = view.up {
+        camera.up = up.into();
+    }
+    if let Some(fov) = view.fov {
+        camera.fov_y = fov;
+    }
+    let forward = camera.target - camera.eye;
+    if forward.length_squared() == 0.0 {
+        bail!("--eye, --target: the eye and the target are the same point");
+    }
+    if forward.normalize().cross(camera.up).length() < 1e-6 {
+        bail!("--up: the up direction is parallel to the view direction (or zero)");
+    }
+    Ok(camera)
 }
 
 /// Meshes, computes form factors and solves, with progress bars when stderr is a terminal.

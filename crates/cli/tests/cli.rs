@@ -325,6 +325,25 @@ fn bad_inputs_exit_2_with_one_line_and_no_output() {
         &["--elements", "--solver hierarchical", "--epsilon"],
     );
     assert_fails(
+        "eye-not-a-point",
+        &with(&["render", "room.toml", "-o", "x.png", "--eye", "1,2"]),
+        &["--eye", "X,Y,Z"],
+    );
+    assert_fails(
+        "up-along-the-view",
+        &with(&[
+            "render",
+            "room.toml",
+            "-o",
+            "x.png",
+            "--eye",
+            "0,5,0",
+            "--target",
+            "0,0,0",
+        ]),
+        &["--up", "parallel"],
+    );
+    assert_fails(
         "directory-as-scene",
         &with(&["render", ".", "-o", "x.png"]),
         &["is a directory"],
@@ -479,5 +498,34 @@ fn curve_draws_the_de_casteljau_construction_as_svg() {
     let bad = run(&dir, &["curve", "--points", "0,0 1,x", "-o", "d.svg"]);
     assert_eq!(bad.status.code(), Some(2));
     assert!(!dir.join("d.svg").exists());
+    fs::remove_dir_all(&dir).expect("cleanup");
+}
+
+#[test]
+fn the_camera_can_be_set_from_the_command_line() {
+    // The same solve seen from the scene's camera and from one set by --eye/--target/--fov:
+    // different pictures; a negative coordinate parses.
+    let dir = scratch("camera");
+    fs::write(dir.join("room.toml"), scene_text("")).expect("write scene");
+    let render = |extra: &[&str], out: &str| {
+        let head = [
+            "render",
+            "room.toml",
+            "--elements",
+            "24",
+            "--width",
+            "16",
+            "--height",
+        ];
+        let o = run(&dir, &[&head[..], &["16", "-o", out], extra].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+        fs::read(dir.join(out)).expect("image")
+    };
+    let scene_camera = render(&[], "a.png");
+    let moved = render(
+        &["--eye", "-0.5,0.8,-2", "--target", "0,0.2,0", "--fov", "70"],
+        "b.png",
+    );
+    assert_ne!(scene_camera, moved);
     fs::remove_dir_all(&dir).expect("cleanup");
 }
