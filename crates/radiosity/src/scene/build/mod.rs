@@ -509,7 +509,7 @@ impl Builder {
         let near = near_emitters::warnings(&self.scene, &self.file.display().to_string());
         self.scene.warnings.extend(near);
         self.scene.cameras = if cameras.is_empty() {
-            vec![frame::frame(&self.scene.polygons)]
+            vec![frame::frame(&self.scene.polygons, &self.scene.materials)]
         } else {
             cameras
         };
