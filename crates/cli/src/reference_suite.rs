@@ -16,7 +16,7 @@ use std::time::Instant;
 
 use radiosity::mesh::Subdivision;
 use radiosity::pipeline::{self, Settings};
-use radiosity::progress::Silent;
+use radiosity::progress::{Progress, Silent};
 use radiosity::stats::Timings;
 use radiosity::{formfactor, solve, Scene};
 
@@ -80,6 +80,7 @@ pub fn rows(
     only: &[String],
     solvers: &[SuiteSolver],
     form_factors: &[formfactor::Method],
+    progress: &dyn Progress,
 ) -> anyhow::Result<Vec<Row>> {
     let folder = root.join("benches").join("suite").join("reference");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&folder)
@@ -105,6 +106,8 @@ pub fn rows(
         folder.display()
     );
     let mut out = Vec::new();
+    let cases = files.len() * solvers.len() * form_factors.len();
+    progress.start("suite", cases as u64);
     for file in &files {
         let (scene_path, references) = read_reference(file)?;
         let scene_path = root.join(scene_path);
@@ -113,9 +116,11 @@ pub fn rows(
         for &solver in solvers {
             for &ff in form_factors {
                 out.push(worst_object(label, scene.clone(), solver, ff, &references)?);
+                progress.advance(1);
             }
         }
     }
+    progress.finish();
     Ok(out)
 }
 

@@ -35,7 +35,7 @@
 //!   (floor) and 0.12 % elsewhere. Hence the tolerance 1.5 % ≥ 0.7 % + 3 × 0.2 %.
 //!
 
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 
 use clap::{Args, ValueEnum};
 use glam::Vec3;
@@ -126,11 +126,13 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
                 .map(|s| s.parse::<formfactor::Method>().map_err(anyhow::Error::from))
                 .collect::<anyhow::Result<_>>()?
         };
+        let bars = crate::bars::Bars::new(std::io::stderr().is_terminal());
         rows.extend(reference_suite::rows(
             &args.suite_dir,
             &args.suite_scenes,
             &solvers,
             &form_factors,
+            &bars,
         )?);
     }
     let mut out = std::io::stdout().lock();
