@@ -6,7 +6,9 @@
 //! the binary buffer (padded with zeros).
 //!
 //! The lit mesh becomes one node and one mesh per scene object (named after it, objects without
-//! triangles left out), all sharing three vertex accessors:
+//! triangles left out), each with its own vertices (so its `POSITION` bounds are its own, which
+//! viewers such as three.js use for culling and framing; vertices on the seam between two objects
+//! are written once for each) in three vertex accessors:
 //!
 //! - `POSITION`: float VEC3, scene units, with its bounds as the specification requires;
 //! - `COLOR_0`: float VEC3, the vertex radiance L = B/π, chosen by [`VertexColours`]: exposed
@@ -138,32 +140,50 @@ fn encode(lit: &LitMesh, object_names: &[String], mode: VertexColours) -> io::Re
         let radiosity = |i: usize| lit.radiosity.get(i).copied().unwrap_or_default();
         let colours = vertex_colours(lit, mode);
         let b: Vec<Vec3> = (0..n).map(|i| radiosity(i).as_vec3()).collect();
-        let (lo, hi) = lit.positions.iter().fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-        );
-        for (name, data, bounds) in [
-            ("POSITION", &lit.positions, Some((lo, hi))),
-            ("COLOR_0", &colours, None),
-            ("_RADIOSITY", &b, None),
-        ] {
-            let view = push_view(&mut bin, &vec3_bytes(data), ARRAY_BUFFER);
-            let mut accessor = json!({
-                "bufferView": view, "componentType": FLOAT, "count": n, "type": "VEC3",
-                "name": name
-            });
-            if let Some((lo, hi)) = bounds {
-                accessor["min"] = json!(lo.to_array());
-                accessor["max"] = json!(hi.to_array());
-            }
-            accessors.push(accessor);
-        }
+        // Each object's own vertices (its local index of every lit-mesh vertex it uses).
+        let mut local = vec![u32::MAX; n];
         for (object, triangles) in &groups {
+            let mut used: Vec<usize> = Vec::new();
             let indices: Vec<u8> = triangles
                 .iter()
                 .flat_map(|&t| lit.triangles[t])
+                .map(|v| {
+                    let v = v as usize;
+                    if local[v] == u32::MAX {
+                        local[v] = used.len() as u32;
+                        used.push(v);
+                    }
+                    local[v]
+                })
                 .flat_map(u32::to_le_bytes)
                 .collect();
+            let pick = |data: &[Vec3]| -> Vec<Vec3> { used.iter().map(|&v| data[v]).collect() };
+            let positions = pick(&lit.positions);
+            let (lo, hi) = positions.iter().fold(
+                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+                |(lo, hi), &p| (lo.min(p), hi.max(p)),
+            );
+            let mut attributes = serde_json::Map::new();
+            for (name, data, bounds) in [
+                ("POSITION", positions, Some((lo, hi))),
+                ("COLOR_0", pick(&colours), None),
+                ("_RADIOSITY", pick(&b), None),
+            ] {
+                let view = push_view(&mut bin, &vec3_bytes(&data), ARRAY_BUFFER);
+                let mut accessor = json!({
+                    "bufferView": view, "componentType": FLOAT, "count": used.len(),
+                    "type": "VEC3", "name": name
+                });
+                if let Some((lo, hi)) = bounds {
+                    accessor["min"] = json!(lo.to_array());
+                    accessor["max"] = json!(hi.to_array());
+                }
+                accessors.push(accessor);
+                attributes.insert(name.into(), json!(accessors.len() - 1));
+            }
+            for &v in &used {
+                local[v] = u32::MAX;
+            }
             let view = push_view(&mut bin, &indices, ELEMENT_ARRAY_BUFFER);
             accessors.push(json!({
                 "bufferView": view, "componentType": UNSIGNED_INT,
@@ -176,7 +196,7 @@ fn encode(lit: &LitMesh, object_names: &[String], mode: VertexColours) -> io::Re
             meshes.push(json!({
                 "name": name,
                 "primitives": [{
-                    "attributes": { "POSITION": 0, "COLOR_0": 1, "_RADIOSITY": 2 },
+                    "attributes": attributes,
                     "indices": accessors.len() - 1,
                     "material": 0,
                     "mode": 4
@@ -324,21 +344,29 @@ mod tests {
             .chunks(4)
             .map(|c| u32_at(c, 0))
             .collect();
-        assert_eq!(idx, [0, 2, 3]);
-        // POSITION bounds are required and exact.
-        let pos = accessor(floor["attributes"]["POSITION"].as_u64().expect("position"));
+        // The floor's own vertices: lit-mesh vertices 0, 2, 3 in order of first use.
+        assert_eq!(idx, [0, 1, 2]);
+        // POSITION bounds are required, exact, and the object's own: the floor's triangle
+        // (0,0)-(1,2)-(0,1), not the whole mesh's (which reaches x = 1 at y = 0 too).
+        let attribute = |name: &str| accessor(floor["attributes"][name].as_u64().expect(name));
+        let pos = attribute("POSITION");
         assert_eq!(pos["min"], json!([0.0, 0.0, 0.0]));
         assert_eq!(pos["max"], json!([1.0, 2.0, 0.0]));
-        assert_eq!(view_bytes(pos).len(), 4 * 12);
-        // COLOR_0 within [0, 1]; _RADIOSITY keeps B: π at vertex 0.
-        let colour = view_bytes(accessor(1));
+        assert_eq!(view_bytes(pos).len(), 3 * 12);
+        let wall = &doc["meshes"][1]["primitives"][0];
+        let wall_pos = accessor(wall["attributes"]["POSITION"].as_u64().expect("position"));
+        assert_eq!(wall_pos["min"], json!([0.0, 0.0, 0.0]));
+        assert_eq!(wall_pos["max"], json!([1.0, 2.0, 0.0]));
+        assert_ne!(wall_pos["bufferView"], pos["bufferView"]);
+        // COLOR_0 within [0, 1]; _RADIOSITY keeps B: π at vertex 0 (the floor's first).
+        let colour = view_bytes(attribute("COLOR_0"));
         let floats: Vec<f32> = colour
             .chunks(4)
             .map(|c| f32::from_le_bytes(c.try_into().expect("4")))
             .collect();
         assert!(floats.iter().all(|c| (0.0..=1.0).contains(c)), "{floats:?}");
         assert!(floats[0] > 0.0 && floats[3] == 0.0);
-        let b = view_bytes(accessor(2));
+        let b = view_bytes(attribute("_RADIOSITY"));
         assert_eq!(f32::from_le_bytes(b[..4].try_into().expect("4")), PI as f32);
     }
 
