@@ -20,6 +20,7 @@ use radiosity::io::ply::write_ply;
 use radiosity::pipeline::{self, Solved};
 use radiosity::plot::write_convergence_svg;
 use radiosity::render::{tonemap, RasterSettings};
+use radiosity::scene::validate::{camera_problem, CameraProblem};
 use radiosity::scene::Camera;
 use radiosity::solve::checkpoint::{Checkpoint, Checkpointing, Control};
 use radiosity::stats::Timings;
@@ -169,14 +170,18 @@ pub(crate) fn pick_camera(scene: &Scene, name: Option<&str>, view: &ViewArgs) ->
     if let Some(fov) = view.fov {
         camera.fov_y = fov;
     }
-    let forward = camera.target - camera.eye;
-    if forward.length_squared() == 0.0 {
-        bail!("--eye, --target: the eye and the target are the same point");
+    match camera_problem(camera.eye, camera.target, camera.up, camera.fov_y) {
+        Some(CameraProblem::TargetIsEye) => {
+            bail!("--eye, --target: the eye and the target are the same point")
+        }
+        Some(CameraProblem::UpAlongView) => {
+            bail!("--up: the up direction is parallel to the view direction (or zero)")
+        }
+        Some(CameraProblem::FieldOfView(fov)) => {
+            bail!("--fov: {fov} is outside (0, 180) degrees")
+        }
+        None => Ok(camera),
     }
-    if forward.normalize().cross(camera.up).length() < 1e-6 {
-        bail!("--up: the up direction is parallel to the view direction (or zero)");
-    }
-    Ok(camera)
 }
 
 /// Meshes, computes form factors and solves, with progress bars when stderr is a terminal.

@@ -16,33 +16,39 @@ fn stats_iterations(path: &Path) -> (String, u64) {
     (objects, solver["iterations"].as_u64().expect("iterations"))
 }
 
+/// `radiosity render ARGS` writing `out.png` and `stats.json` in `dir`, its stderr captured.
+fn render_in(dir: &Path, args: &[&str]) -> Command {
+    let mut cmd = radiosity();
+    cmd.arg("render")
+        .args(args)
+        .arg("-o")
+        .arg(dir.join("out.png"))
+        .arg("--stats")
+        .arg(dir.join("stats.json"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped());
+    cmd
+}
+
 /// A progressive solve far too long to finish: 3000 elements to a residual of 10⁻¹².
 fn long_render(dir: &Path) -> Command {
-    let mut cmd = radiosity();
-    cmd.args([
-        "render",
-        "cornell",
-        "--solver",
-        "progressive",
-        "--elements",
-        "3000",
-    ])
-    .args([
-        "--tolerance",
-        "1e-12",
-        "--width",
-        "32",
-        "--height",
-        "32",
-        "-o",
-    ])
-    .arg(dir.join("out.png"))
-    .arg("--stats")
-    .arg(dir.join("stats.json"))
-    .arg("--checkpoint")
-    .arg(dir.join("state.json"))
-    .stdout(Stdio::null())
-    .stderr(Stdio::piped());
+    let mut cmd = render_in(
+        dir,
+        &[
+            "cornell",
+            "--solver",
+            "progressive",
+            "--elements",
+            "3000",
+            "--tolerance",
+            "1e-12",
+            "--width",
+            "32",
+            "--height",
+            "32",
+        ],
+    );
+    cmd.arg("--checkpoint").arg(dir.join("state.json"));
     cmd
 }
 
@@ -100,21 +106,20 @@ fn sigint_stops_the_hierarchical_solver_too() {
     // ε = 10⁻⁷ refines for minutes; the stop flag is read between refinement rounds and
     // between gather iterations, and the links refined so far give a valid solution.
     let dir = scratch("sigint-hierarchical");
-    let mut cmd = radiosity();
-    cmd.args([
-        "render",
-        "cornell",
-        "--solver",
-        "hierarchical",
-        "--epsilon",
-        "1e-7",
-    ])
-    .args(["--width", "32", "--height", "32", "-o"])
-    .arg(dir.join("out.png"))
-    .arg("--stats")
-    .arg(dir.join("stats.json"))
-    .stdout(Stdio::null())
-    .stderr(Stdio::piped());
+    let cmd = render_in(
+        &dir,
+        &[
+            "cornell",
+            "--solver",
+            "hierarchical",
+            "--epsilon",
+            "1e-7",
+            "--width",
+            "32",
+            "--height",
+            "32",
+        ],
+    );
     let out = interrupted_after_3_s(cmd);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{stderr}");
@@ -234,21 +239,22 @@ fn sigint_during_the_render_stage_stops_it_and_writes_nothing() {
     // pixel): the signal at 3 s falls in the render, which used to ignore it and report
     // success.
     let dir = scratch("sigint-render");
-    let mut cmd = radiosity();
-    cmd.args([
-        "render",
-        "cornell",
-        "--elements",
-        "200",
-        "--mode",
-        "raytrace",
-    ])
-    .args(["--gather", "256", "--width", "256", "--height", "256", "-o"])
-    .arg(dir.join("out.png"))
-    .arg("--stats")
-    .arg(dir.join("stats.json"))
-    .stdout(Stdio::null())
-    .stderr(Stdio::piped());
+    let cmd = render_in(
+        &dir,
+        &[
+            "cornell",
+            "--elements",
+            "200",
+            "--mode",
+            "raytrace",
+            "--gather",
+            "256",
+            "--width",
+            "256",
+            "--height",
+            "256",
+        ],
+    );
     let out = interrupted_after_3_s(cmd);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{stderr}");

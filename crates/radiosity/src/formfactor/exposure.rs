@@ -61,13 +61,14 @@ pub(crate) fn exposure(g: &Geometry) -> Vec<f64> {
         .map_init(Receiver::default, |receiver, e| {
             let node = mesh.element(e);
             let normal = mesh.patches[node.patch as usize].normal;
+            let directions = probes(normal);
             receiver.set(&node.face, GRID);
             let buried: f64 = receiver
                 .points
                 .iter()
                 .filter(|(x, _)| {
                     let origin = x.as_vec3() + normal * lift;
-                    !probes(normal).iter().any(|&d| open(origin, d))
+                    !directions.iter().any(|&d| open(origin, d))
                 })
                 .map(|&(_, w)| w)
                 .sum();

@@ -26,7 +26,7 @@
 use glam::Vec3;
 
 use super::{Mesh, MAX_LEVEL};
-use crate::accel::{Aabb, Bvh};
+use crate::accel::Bvh;
 
 /// Extra quadtree levels for elements that a contact line crosses (each level halves the
 /// straddling strip's width).
@@ -105,15 +105,11 @@ impl Mesh {
             .map(|c| c.abs().max_element())
             .fold(0.0, f32::max);
         let eps = (TOLERANCE * node.face.diameter()).max(8.0 * f32::EPSILON * magnitude);
-        let mut query = Aabb::from_points(corners);
-        query.min -= Vec3::splat(reach.max(eps));
-        query.max += Vec3::splat(reach.max(eps));
         let mut wanted = 0;
-        bvh.overlapping(&query, |t| {
-            let polygon = self.triangle_polygon[t];
-            if wanted <= done && polygon != patch.polygon {
-                let facing_light =
-                    lights[polygon as usize].is_some_and(|n| n.dot(patch.normal) < 0.0);
+        self.other_triangles_near(bvh, n, reach.max(eps), |t| {
+            if wanted <= done {
+                let polygon = self.triangle_polygon[t] as usize;
+                let facing_light = lights[polygon].is_some_and(|n| n.dot(patch.normal) < 0.0);
                 wanted = match crosses(corners, patch.normal, &self.triangles[t], eps) {
                     Some(Touch::Cover) if facing_light => COVER_LEVELS,
                     Some(_) => CONTACT_LEVELS,

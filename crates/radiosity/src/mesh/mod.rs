@@ -30,6 +30,7 @@ pub use lit_mesh::LitMesh;
 pub use near_field::NEAR_REFINEMENT;
 pub use patch::Patch;
 
+use crate::accel::{Aabb, Bvh};
 use crate::Scene;
 
 /// How finely to subdivide patches into elements.
@@ -139,7 +140,7 @@ impl Mesh {
                 }
             }
         }
-        let bvh = crate::accel::Bvh::build(&mesh.triangles);
+        let bvh = Bvh::build(&mesh.triangles);
         mesh.refine_contacts(&bvh);
         mesh.mark_near_field(&bvh);
         debug_assert_eq!(mesh.validate(), Ok(()));
@@ -200,6 +201,22 @@ impl Mesh {
             self.number(r);
         }
         debug_assert_eq!(self.validate(), Ok(()));
+    }
+
+    /// Calls `visit` with every triangle (an index into [`Mesh::triangles`]) of another polygon
+    /// than node `n`'s whose bounds come within `reach` of the node's bounds: the candidates of
+    /// the contact and near-field tests.
+    fn other_triangles_near(&self, bvh: &Bvh, n: u32, reach: f32, mut visit: impl FnMut(usize)) {
+        let node = &self.nodes[n as usize];
+        let own = self.patches[node.patch as usize].polygon;
+        let mut query = Aabb::from_points(node.face.corners());
+        query.min -= Vec3::splat(reach);
+        query.max += Vec3::splat(reach);
+        bvh.overlapping(&query, |t| {
+            if self.triangle_polygon[t] != own {
+                visit(t);
+            }
+        });
     }
 
     /// Numbers the leaves below `n` depth-first, appending them to `elements`.

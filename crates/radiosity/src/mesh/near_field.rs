@@ -16,7 +16,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::Mesh;
-use crate::accel::{Aabb, Bvh};
+use crate::accel::Bvh;
 
 /// How much finer the receiver grid of a near-field element is, per side.
 pub const NEAR_REFINEMENT: u32 = 2;
@@ -49,17 +49,12 @@ impl Mesh {
         let reach = REACH * diameter;
         let (centre, origin) = (node.face.centroid(), node.face.corners()[0]);
         let eps = 1e-4 * diameter;
-        let mut query = Aabb::from_points(node.face.corners());
-        query.min -= Vec3::splat(reach);
-        query.max += Vec3::splat(reach);
         let mut near = false;
-        bvh.overlapping(&query, |t| {
-            if near || self.triangle_polygon[t] == patch.polygon {
-                return;
-            }
+        self.other_triangles_near(bvh, n, reach, |t| {
             let triangle = &self.triangles[t];
-            near = triangle.iter().any(|&v| patch.normal.dot(v - origin) > eps)
-                && centre.distance(closest_point(triangle, centre)) < reach;
+            near = near
+                || (triangle.iter().any(|&v| patch.normal.dot(v - origin) > eps)
+                    && centre.distance(closest_point(triangle, centre)) < reach);
         });
         near
     }

@@ -39,11 +39,7 @@ pub fn frame(polygons: &[Polygon], materials: &[Material]) -> Camera {
         polygons
             .iter()
             .map(|p| {
-                let v = &p.vertices;
-                let area = (1..v.len().saturating_sub(1))
-                    .map(|k| (v[k] - v[0]).cross(v[k + 1] - v[0]))
-                    .fold(Vec3::ZERO, |a, b| a + b)
-                    * 0.5;
+                let area = model::polymesh::vector_area(&p.vertices);
                 let two_sided = materials.get(p.material).is_some_and(|m| m.two_sided);
                 if two_sided {
                     area.dot(d).abs()

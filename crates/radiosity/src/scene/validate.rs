@@ -100,6 +100,34 @@ pub fn polygon_problem(vertices: &[Vec3]) -> Option<PolygonProblem> {
     (deviation > NON_PLANAR_TOLERANCE).then_some(PolygonProblem::NonPlanar(deviation))
 }
 
+/// Why a camera cannot look: the scene file and the command line (`--eye` …) share the test.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CameraProblem {
+    /// The eye and the target are one point: no view direction.
+    TargetIsEye,
+    /// The up direction is zero or along the view direction.
+    UpAlongView,
+    /// The vertical field of view (degrees) is outside (0, 180).
+    FieldOfView(f32),
+}
+
+/// The first problem of a camera at `eye` looking at `target` with `up` and a vertical field of
+/// view of `fov_y` degrees, if any.
+#[must_use]
+pub fn camera_problem(eye: Vec3, target: Vec3, up: Vec3, fov_y: f32) -> Option<CameraProblem> {
+    let dir = target - eye;
+    if dir.length_squared() == 0.0 {
+        return Some(CameraProblem::TargetIsEye);
+    }
+    if dir.cross(up).length_squared() <= 1e-12 * dir.length_squared() {
+        return Some(CameraProblem::UpAlongView);
+    }
+    if !(fov_y > 0.0 && fov_y < 180.0) {
+        return Some(CameraProblem::FieldOfView(fov_y));
+    }
+    None
+}
+
 /// Checks a parsed scene: value ranges, material references, shapes and cameras.
 ///
 /// # Errors
@@ -110,23 +138,25 @@ pub fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
         if !names.insert(c.name.value.as_str()) {
             return Err(fail(desc, &c.name, "duplicate camera name".into()));
         }
-        let dir = c.target.value - c.eye.value;
-        if dir.length_squared() == 0.0 {
-            return Err(fail(desc, &c.target, "target equals eye".into()));
-        }
-        if dir.cross(c.up.value).length_squared() <= 1e-12 * dir.length_squared() {
-            return Err(fail(
-                desc,
-                &c.up,
-                "up is zero or parallel to the view direction".into(),
-            ));
-        }
-        if !(c.fov_y.value > 0.0 && c.fov_y.value < 180.0) {
-            return Err(fail(
-                desc,
-                &c.fov_y,
-                format!("{} is outside (0, 180) degrees", c.fov_y.value),
-            ));
+        match camera_problem(c.eye.value, c.target.value, c.up.value, c.fov_y.value) {
+            Some(CameraProblem::TargetIsEye) => {
+                return Err(fail(desc, &c.target, "target equals eye".into()));
+            }
+            Some(CameraProblem::UpAlongView) => {
+                return Err(fail(
+                    desc,
+                    &c.up,
+                    "up is zero or parallel to the view direction".into(),
+                ));
+            }
+            Some(CameraProblem::FieldOfView(fov)) => {
+                return Err(fail(
+                    desc,
+                    &c.fov_y,
+                    format!("{fov} is outside (0, 180) degrees"),
+                ));
+            }
+            None => {}
         }
     }
     for side in [&desc.render.width, &desc.render.height]
