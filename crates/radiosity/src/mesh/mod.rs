@@ -18,6 +18,7 @@ mod face;
 pub mod lit_mesh;
 mod near_field;
 mod patch;
+mod shadow;
 mod triangulate;
 
 use std::ops::Range;
@@ -29,6 +30,7 @@ pub use face::Face;
 pub use lit_mesh::LitMesh;
 pub use near_field::NEAR_REFINEMENT;
 pub use patch::Patch;
+pub use shadow::SHADOW_LEVELS;
 
 use crate::accel::{Aabb, Bvh};
 use crate::Scene;
@@ -142,6 +144,7 @@ impl Mesh {
         }
         let bvh = Bvh::build(&mesh.triangles);
         mesh.refine_contacts(&bvh);
+        mesh.refine_shadows(&bvh);
         mesh.mark_near_field(&bvh);
         debug_assert_eq!(mesh.validate(), Ok(()));
         mesh
