@@ -420,6 +420,10 @@ pub enum Mode {
     Local,
     /// Whitted ray tracing over the radiosity solution.
     Raytrace,
+    /// The radiosity solution evaluated at each visible point: direct light from the emitters
+    /// exactly (Lambert's formula, shadow rays in penumbrae), indirect light from the solution;
+    /// mirrors and glass traced.
+    Final,
 }
 
 /// `--solver`.

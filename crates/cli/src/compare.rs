@@ -53,6 +53,11 @@ pub fn render_mode(
             };
             raytrace::render(scene, mesh, lit, camera, raster, &settings, &watch)
         }
+        Mode::Final => {
+            let radiosity = &solved.solution.radiosity;
+            let settings = RaytraceSettings::default();
+            raytrace::evaluate::render(scene, mesh, radiosity, camera, raster, &settings, &watch)
+        }
     };
     image
         .ok_or_else(|| job::Interrupted("interrupted while rendering: wrote nothing".into()).into())

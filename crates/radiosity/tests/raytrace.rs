@@ -324,6 +324,62 @@ fn a_blocker_casts_its_shadow_where_geometry_says() {
     }
 }
 
+#[test]
+fn the_evaluated_render_gives_the_exact_direct_light_and_a_black_umbra() {
+    // The same scene: in full light the evaluated picture is Lambert's exact direct light
+    // (no sampling: every shadow ray gets through) plus an indirect part that is nil here, in
+    // the umbra it is black; the gather above needed 3 % for the lit points. Next to the
+    // penumbra (|x| or |z| from 0.5 to 0.7) the interpolated indirect part carries what the
+    // solution's direct light on the elements there differs from the exact one: 1.5 % at
+    // (0.8, 0, 0.5).
+    let s = solve(SHADOW, 400);
+    let size = 96;
+    let camera = &s.scene.cameras[0];
+    let settings = centred(4, 0);
+    let evaluated = raytrace::evaluate::render(
+        &s.scene,
+        &s.mesh,
+        &s.solution.radiosity,
+        camera,
+        &image(size, 1),
+        &settings,
+        &Watch::SILENT,
+    )
+    .expect("not stopped");
+    for p in [Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.3, 0.0, -0.2)] {
+        let (x, y) = pixel_of(&s, size, p);
+        assert!(
+            evaluated.get(x, y).x < 1e-3,
+            "umbra {p}: {}",
+            evaluated.get(x, y)
+        );
+    }
+    let light = [
+        [-0.1, 2.0, -0.1],
+        [0.1, 2.0, -0.1],
+        [0.1, 2.0, 0.1],
+        [-0.1, 2.0, 0.1],
+    ]
+    .map(DVec3::from_array);
+    let proj = Projection::new(camera, size, size);
+    for (p, tolerance) in [
+        (Vec3::new(0.85, 0.0, 0.0), 0.005),
+        (Vec3::new(0.95, 0.0, -0.3), 0.005),
+        (Vec3::new(0.8, 0.0, 0.5), 0.02),
+    ] {
+        let (x, y) = pixel_of(&s, size, p);
+        let (o, d) = proj.primary_ray(x as f32 + 0.5, y as f32 + 0.5);
+        let q = (o + d * (-o.y / d.y)).as_dvec3();
+        // ρ/π · E_d with E_d = π L_e F = 10 π F.
+        let want = 0.5 / PI * 10.0 * PI * point_to_polygon(q, DVec3::Y, &light);
+        let got = evaluated.get(x, y).x;
+        assert!(
+            (got / want - 1.0).abs() < tolerance,
+            "lit {p}: {got} vs {want}"
+        );
+    }
+}
+
 const GLASS: &str = r#"
 [camera]
 eye = [0.0, 0.0, 4.0]

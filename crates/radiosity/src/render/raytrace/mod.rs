@@ -42,12 +42,14 @@
 //! **Sampling.** s × s jittered samples per pixel, parallel over tiles, hashed random numbers:
 //! the image is the same for any number of threads ([`sample`]).
 
+pub mod evaluate;
 pub mod optics;
 pub mod sample;
 pub mod world;
 
 use glam::Vec3;
 
+use self::evaluate::Luminaires;
 use self::optics::{fresnel_dielectric, reflect, refract};
 pub use self::sample::Watch;
 use self::sample::{cosine_direction, render_tiles, Sampler};
@@ -114,6 +116,7 @@ pub fn render(
     let tracer = Tracer {
         world: &world,
         settings,
+        luminaires: None,
     };
     render_primary(
         camera,
@@ -155,6 +158,9 @@ where
 struct Tracer<'a> {
     world: &'a World<'a>,
     settings: &'a RaytraceSettings,
+    /// With luminaires, every diffuse hit adds their direct light, evaluated exactly, to the
+    /// lit mesh's (indirect) radiosity ([`evaluate`]).
+    luminaires: Option<&'a Luminaires>,
 }
 
 impl Tracer<'_> {
@@ -173,17 +179,29 @@ impl Tracer<'_> {
             return Rgb::ZERO;
         };
         let material = world.material(hit.triangle);
-        let mut radiance = match hit.diffuse {
-            Some(_) if self.gathers(material.reflectance, weight) => {
-                let emitted = if hit.front {
-                    world.emitted(hit.triangle)
-                } else {
-                    Rgb::ZERO
-                };
-                emitted + material.reflectance * self.gather(&hit, sampler)
+        let emitted = || {
+            if hit.front {
+                world.emitted(hit.triangle)
+            } else {
+                Rgb::ZERO
             }
-            Some(d) => world.radiance(d),
-            None => Rgb::ZERO,
+        };
+        let mut radiance = match (hit.diffuse, self.luminaires) {
+            (Some(d), Some(luminaires)) => {
+                let samples = self.settings.shadow_samples;
+                let direct = luminaires.irradiance(world, hit.point, hit.shading, samples, sampler);
+                // The interpolated indirect part may dip below zero where the element's mean
+                // direct light exceeds the solution's; radiance never does.
+                (emitted()
+                    + material.reflectance * direct / std::f64::consts::PI
+                    + world.radiance(d))
+                .max(Rgb::ZERO)
+            }
+            (Some(_), None) if self.gathers(material.reflectance, weight) => {
+                emitted() + material.reflectance * self.gather(&hit, sampler)
+            }
+            (Some(d), None) => world.radiance(d),
+            (None, _) => Rgb::ZERO,
         };
         let transmissive = material.transmission.max_element() > 0.0;
         let reflective = material.specular.max_element() > 0.0 && (hit.front || material.two_sided);

@@ -1,0 +1,62 @@
+#!/usr/bin/env python3
+"""A path-traced reference image of a TOML or OBJ scene, from the scene's own camera (Mitsuba 3).
+
+The geometry, materials and emitters are read as benches/suite/reference.py reads them (its
+`load` and `scene_dict`: the same Mitsuba scene the per-object references use), and the camera
+from the TOML file's [camera] table (eye, target, up, fov_y). Integrator `path`, max_depth 256,
+Russian roulette from depth 5; a box pixel filter of one pixel, as our renderer's pixels are the
+mean over their square. The image is linear radiance (W m^-2 sr^-1), written as EXR.
+
+Usage (LLVM back end: apt-get install libllvm19):
+    DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 \\
+    python3 benches/image/reference.py scenes/cornell/scene.toml --spp 4096 -o ref.exr
+"""
+
+import argparse
+import pathlib
+import sys
+import tempfile
+import time
+import tomllib
+
+HERE = pathlib.Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent / "suite"))
+
+import mitsuba as mi  # noqa: E402
+import reference as suite  # noqa: E402
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("scene")
+    p.add_argument("--width", type=int, default=512)
+    p.add_argument("--height", type=int, default=512)
+    p.add_argument("--spp", type=int, default=4096)
+    p.add_argument("--variant", default="llvm_ad_rgb")
+    p.add_argument("-o", "--output", required=True)
+    args = p.parse_args()
+    mi.set_variant(args.variant)
+    objects = suite.load(args.scene)
+    scale = suite.scene_scale(objects)
+    cam = tomllib.loads(pathlib.Path(args.scene).read_text())["camera"]
+    with tempfile.TemporaryDirectory() as d:
+        sd = suite.scene_dict(objects, scale, d, 256, 5)
+        sd["sensor"] = {
+            "type": "perspective", "fov": float(cam.get("fov_y", 39.3)), "fov_axis": "y",
+            "to_world": mi.ScalarTransform4f().look_at(
+                origin=[c * scale for c in cam["eye"]],
+                target=[c * scale for c in cam["target"]], up=cam.get("up", [0, 1, 0])),
+            "film": {"type": "hdrfilm", "width": args.width, "height": args.height,
+                     "rfilter": {"type": "box"}, "pixel_format": "rgb"},
+            "sampler": {"type": "independent", "sample_count": args.spp},
+        }
+        scene = mi.load_dict(sd)
+        t = time.time()
+        image = mi.render(scene, spp=args.spp)
+        seconds = time.time() - t
+    mi.Bitmap(image).write(args.output)
+    print(f"{args.output}: {args.width}x{args.height}, {args.spp} spp, {seconds:.1f} s")
+
+
+if __name__ == "__main__":
+    main()
