@@ -33,6 +33,8 @@ def main():
     p.add_argument("--height", type=int, default=512)
     p.add_argument("--spp", type=int, default=4096)
     p.add_argument("--variant", default="llvm_ad_rgb")
+    p.add_argument("--seed", type=int, default=0, help="sampler seed (a reference and a "
+                   "cheaper render compared with it need different seeds)")
     p.add_argument("-o", "--output", required=True)
     args = p.parse_args()
     mi.set_variant(args.variant)
@@ -52,9 +54,9 @@ def main():
         }
         scene = mi.load_dict(sd)
         t = time.time()
-        image = mi.render(scene, spp=args.spp)
+        bitmap = mi.Bitmap(mi.render(scene, spp=args.spp, seed=args.seed))  # evaluated here, not lazily later
         seconds = time.time() - t
-    mi.Bitmap(image).write(args.output)
+    bitmap.write(args.output)
     print(f"{args.output}: {args.width}x{args.height}, {args.spp} spp, {seconds:.1f} s")
 
 
