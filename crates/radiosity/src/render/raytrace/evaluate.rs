@@ -20,8 +20,25 @@
 //!   of shadow rays (n² = [`RaytraceSettings::shadow_samples`]): 1 in the open, 0 in umbrae,
 //!   sampled only in penumbrae.
 //! - B_i: the indirect radiosity of each element, the solution less its emission and its own
-//!   direct light Ē_d(e) (the same estimator at a 4 × 4 grid of the element's points),
-//!   interpolated over the lit mesh. It is smooth, so the interpolation shows no mesh.
+//!   direct light Ē_d(e) (the same estimator at a 4 × 4 grid of the element's points).
+//!
+//! The indirect light is smooth except next to another surface: into a corner it darkens within
+//! one element, and interpolated it left a bright band along every corner of a room. So it is
+//! split once more, into a *near* part gathered at the point with the exact kernel and a *far*
+//! part interpolated (the near field of Lischinski, Tampieri & Greenberg 1993):
+//!
+//! ```text
+//! B_i(x) = R_interpolated(x) · (1 − S(x)) + ρ(x) · N(x),
+//! N(x) = Σ_{elements s near x}  w(x, s) · F(x → s) · (B_s − E_s),     S(x) = Σ w F,
+//! R(e) = (B_i(e) − ρ(e) · N̄(e)) / (1 − S̄(e)),
+//! ```
+//!
+//! F(x → s) Lambert's exact factor to the element (unoccluded: near surfaces see each other),
+//! w a weight falling from 1 to 0 between half and the whole of the reach
+//! ([`NEAR_REACH`] element diameters), and N̄, S̄ the means over the element's grid, so that
+//! the element's mean is kept. The near surfaces hide the far ones: into a corner S(x) grows
+//! and the far part shrinks (a first version that added the near part to an interpolated far
+//! part made the corners brighter still).
 //!
 //! The solve stays viewer-independent; only the picture is evaluated per point. Mirrors and
 //! glass are traced as by [`super::render`].
@@ -32,6 +49,7 @@ use rayon::prelude::*;
 use super::sample::Sampler;
 use super::world::World;
 use super::{render_primary, RaytraceSettings, Tracer, Watch};
+use crate::accel::{Aabb, Bvh};
 use crate::formfactor::analytic::point_to_polygon;
 use crate::mesh::{display, Face, Mesh};
 use crate::render::{Image, RasterSettings};
@@ -40,6 +58,12 @@ use crate::{Rgb, Scene};
 
 /// Side of the grid of points at which an element's own direct light is averaged.
 const ELEMENT_GRID: u32 = 4;
+
+/// The reach of the near field, in diameters of the largest element of the receiving patch.
+const NEAR_REACH: f32 = 2.0;
+
+/// The far part's radiosity is divided by the share of the view left to it; never by less.
+const MIN_FAR_SHARE: f64 = 0.05;
 
 /// One emitting root face.
 #[derive(Debug)]
@@ -54,6 +78,112 @@ struct Luminaire {
 #[derive(Debug)]
 pub(super) struct Luminaires {
     list: Vec<Luminaire>,
+}
+
+/// The elements of a mesh, found by position, with their reflected radiosity B − E: the near
+/// part of the indirect light.
+#[derive(Debug)]
+pub(super) struct NearField {
+    /// One or two triangles per element, for box queries.
+    bvh: Bvh,
+    /// The element of each triangle.
+    owner: Vec<u32>,
+    /// B − E per element.
+    reflected: Vec<Rgb>,
+    /// The reach per patch: [`NEAR_REACH`] times its largest element's diameter.
+    reach: Vec<f32>,
+}
+
+impl NearField {
+    fn new(mesh: &Mesh, radiosity: &[Rgb]) -> Self {
+        let (mut tris, mut owner) = (Vec::new(), Vec::new());
+        let mut reach = vec![0.0f32; mesh.patches.len()];
+        for e in 0..mesh.element_count() {
+            let node = mesh.element(e);
+            let c = node.face.corners();
+            tris.push([c[0], c[1], c[2]]);
+            owner.push(e as u32);
+            if let [a, _, c, d] = *c {
+                tris.push([a, c, d]);
+                owner.push(e as u32);
+            }
+            let r = &mut reach[node.patch as usize];
+            *r = r.max(NEAR_REACH * node.face.diameter());
+        }
+        let reflected = (0..mesh.element_count())
+            .map(|e| radiosity[e] - mesh.element_patch(e).emission)
+            .collect();
+        Self {
+            bvh: Bvh::build(&tris),
+            owner,
+            reflected,
+            reach,
+        }
+    }
+
+    /// N(x) at `point` (unit normal `normal`) on patch `patch`, and Σ w F, the share of the
+    /// view that the near elements take: see the module docs.
+    fn irradiance(&self, mesh: &Mesh, point: Vec3, normal: Vec3, patch: u32) -> (Rgb, f64) {
+        let reach = self.reach[patch as usize];
+        if reach <= 0.0 {
+            return (Rgb::ZERO, 0.0);
+        }
+        let query = Aabb {
+            min: point - Vec3::splat(reach),
+            max: point + Vec3::splat(reach),
+        };
+        let mut seen: Vec<u32> = Vec::new();
+        let (mut sum, mut share) = (Rgb::ZERO, 0.0);
+        self.bvh.overlapping(&query, |t| {
+            let e = self.owner[t];
+            if seen.contains(&e) {
+                return;
+            }
+            seen.push(e);
+            let face = &mesh.element(e as usize).face;
+            let d = face.centroid().distance(point) / reach;
+            let w = f64::from((2.0 - 2.0 * d).clamp(0.0, 1.0));
+            if w <= 0.0 {
+                return;
+            }
+            let (corners, sides) = face.corners_f64();
+            let f = point_to_polygon(point.as_dvec3(), normal.as_dvec3(), &corners[..sides]);
+            sum += self.reflected[e as usize] * (w * f);
+            share += w * f;
+        });
+        (sum, share.min(1.0))
+    }
+}
+
+/// What the evaluated render adds at a diffuse point: the exact direct light and the near part
+/// of the indirect light.
+#[derive(Debug)]
+pub(super) struct Evaluation {
+    luminaires: Luminaires,
+    near: NearField,
+}
+
+impl Evaluation {
+    /// ρ · (E_d + N) at a point of `patch`, and the share of its view that the near field
+    /// takes from the far part.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn radiosity(
+        &self,
+        world: &World,
+        mesh: &Mesh,
+        point: Vec3,
+        normal: Vec3,
+        patch: u32,
+        samples: u32,
+        sampler: &mut Sampler,
+    ) -> (Rgb, f64) {
+        let rho = mesh.patches[patch as usize].reflectance;
+        let direct = self
+            .luminaires
+            .irradiance(world, point, normal, samples, sampler);
+        let (near, share) = self.near.irradiance(mesh, point, normal, patch);
+        (rho * (direct + near), share)
+    }
 }
 
 impl Luminaires {
@@ -79,7 +209,7 @@ impl Luminaires {
     }
 
     /// The direct irradiance E_d at `point` (unit normal `normal`): see the module docs.
-    pub(super) fn irradiance(
+    fn irradiance(
         &self,
         world: &World,
         point: Vec3,
@@ -135,26 +265,29 @@ pub fn render(
     settings: &RaytraceSettings,
     watch: &Watch,
 ) -> Option<Image> {
-    let luminaires = Luminaires::new(mesh);
+    let evaluation = Evaluation {
+        luminaires: Luminaires::new(mesh),
+        near: NearField::new(mesh, radiosity),
+    };
     // The geometry of the lit mesh does not depend on the values it carries: a world over the
-    // solution's lit mesh finds each element's direct light, one over the indirect part shades.
+    // solution's lit mesh finds each element's direct light, one over the far part shades.
     let full = display::lit_mesh(mesh, radiosity);
-    let indirect = {
+    let far = {
         let world = World::new(scene, mesh, &full);
-        indirect_radiosity(
+        far_radiosity(
             &world,
             mesh,
             radiosity,
-            &luminaires,
+            &evaluation,
             settings.shadow_samples,
         )
     };
-    let lit = display::lit_mesh(mesh, &indirect);
+    let lit = display::lit_mesh(mesh, &far);
     let world = World::new(scene, mesh, &lit);
     let tracer = Tracer {
         world: &world,
         settings,
-        luminaires: Some(&luminaires),
+        evaluation: Some(&evaluation),
     };
     render_primary(
         camera,
@@ -165,13 +298,14 @@ pub fn render(
     )
 }
 
-/// B_i(e) = B(e) − E(e) − ρ(e) · Ē_d(e) for every element (see the module docs); the same
-/// sample streams for any thread count.
-fn indirect_radiosity(
+/// (B(e) − E(e) − ρ(e) · (Ē_d(e) + N̄(e))) / (1 − S̄(e)) for every element: the far part of
+/// its indirect light per share of the view left to it (see the module docs); the same sample
+/// streams for any thread count.
+fn far_radiosity(
     world: &World,
     mesh: &Mesh,
     radiosity: &[Rgb],
-    luminaires: &Luminaires,
+    evaluation: &Evaluation,
     samples: u32,
 ) -> Vec<Rgb> {
     (0..mesh.element_count())
@@ -181,15 +315,26 @@ fn indirect_radiosity(
             let patch = &mesh.patches[node.patch as usize];
             let mut sampler = Sampler::new(e as u32, u32::MAX, 0);
             let g = ELEMENT_GRID as f32;
-            let mut direct = Rgb::ZERO;
+            let (mut near, mut share) = (Rgb::ZERO, 0.0);
             for j in 0..ELEMENT_GRID {
                 for i in 0..ELEMENT_GRID {
                     let x = node.face.point((i as f32 + 0.5) / g, (j as f32 + 0.5) / g);
-                    direct += luminaires.irradiance(world, x, patch.normal, samples, &mut sampler);
+                    let (b, s) = evaluation.radiosity(
+                        world,
+                        mesh,
+                        x,
+                        patch.normal,
+                        node.patch,
+                        samples,
+                        &mut sampler,
+                    );
+                    near += b;
+                    share += s;
                 }
             }
-            direct /= f64::from(ELEMENT_GRID * ELEMENT_GRID);
-            radiosity[e] - patch.emission - patch.reflectance * direct
+            let points = f64::from(ELEMENT_GRID * ELEMENT_GRID);
+            let left = (1.0 - share / points).max(MIN_FAR_SHARE);
+            (radiosity[e] - patch.emission - near / points) / left
         })
         .collect()
 }

@@ -49,7 +49,7 @@ pub mod world;
 
 use glam::Vec3;
 
-use self::evaluate::Luminaires;
+use self::evaluate::Evaluation;
 use self::optics::{fresnel_dielectric, reflect, refract};
 pub use self::sample::Watch;
 use self::sample::{cosine_direction, render_tiles, Sampler};
@@ -116,7 +116,7 @@ pub fn render(
     let tracer = Tracer {
         world: &world,
         settings,
-        luminaires: None,
+        evaluation: None,
     };
     render_primary(
         camera,
@@ -158,9 +158,10 @@ where
 struct Tracer<'a> {
     world: &'a World<'a>,
     settings: &'a RaytraceSettings,
-    /// With luminaires, every diffuse hit adds their direct light, evaluated exactly, to the
-    /// lit mesh's (indirect) radiosity ([`evaluate`]).
-    luminaires: Option<&'a Luminaires>,
+    /// With an evaluation, every diffuse hit adds the direct light and the near indirect
+    /// light, evaluated at the point, to the lit mesh's (far indirect) radiosity
+    /// ([`evaluate`]).
+    evaluation: Option<&'a Evaluation>,
 }
 
 impl Tracer<'_> {
@@ -186,16 +187,21 @@ impl Tracer<'_> {
                 Rgb::ZERO
             }
         };
-        let mut radiance = match (hit.diffuse, self.luminaires) {
-            (Some(d), Some(luminaires)) => {
-                let samples = self.settings.shadow_samples;
-                let direct = luminaires.irradiance(world, hit.point, hit.shading, samples, sampler);
-                // The interpolated indirect part may dip below zero where the element's mean
-                // direct light exceeds the solution's; radiance never does.
-                (emitted()
-                    + material.reflectance * direct / std::f64::consts::PI
-                    + world.radiance(d))
-                .max(Rgb::ZERO)
+        let mut radiance = match (hit.diffuse, self.evaluation) {
+            (Some(d), Some(evaluation)) => {
+                let (at_point, share) = evaluation.radiosity(
+                    world,
+                    world.mesh(),
+                    hit.point,
+                    hit.shading,
+                    world.patch(hit.triangle),
+                    self.settings.shadow_samples,
+                    sampler,
+                );
+                // The interpolated far part may dip below zero where the element's mean of the
+                // point terms exceeds the solution's; radiance never does.
+                (emitted() + at_point / std::f64::consts::PI + world.radiance(d) * (1.0 - share))
+                    .max(Rgb::ZERO)
             }
             (Some(_), None) if self.gathers(material.reflectance, weight) => {
                 emitted() + material.reflectance * self.gather(&hit, sampler)

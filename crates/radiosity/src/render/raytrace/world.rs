@@ -288,6 +288,18 @@ impl<'a> World<'a> {
         self.front.occluded(&Ray::new(from, to - from), 1.0 - 1e-4)
     }
 
+    /// The mesh the lit mesh was built from.
+    #[must_use]
+    pub fn mesh(&self) -> &Mesh {
+        self.mesh
+    }
+
+    /// The patch of lit triangle `t`.
+    #[must_use]
+    pub fn patch(&self, t: u32) -> u32 {
+        self.lit.triangle_patch[t as usize]
+    }
+
     /// The material of lit triangle `t`.
     ///
     /// # Panics
