@@ -380,6 +380,50 @@ fn the_evaluated_render_gives_the_exact_direct_light_and_a_black_umbra() {
     }
 }
 
+#[test]
+fn the_evaluated_render_of_a_glowing_cube_is_uniform_into_its_corners() {
+    // Every wall of a closed cube emits L = 1 and reflects ρ = 0.5: B = πL / (1 − ρ) = 2π
+    // everywhere, so the picture is L = 2 at every pixel. Seen into a corner, the near part of
+    // the indirect light takes most of the view there, and the far part must give way exactly
+    // as much (see `render::raytrace::evaluate`): any mismatch shows as a band along the edges.
+    let mut toml = String::from(
+        "[camera]\neye = [0.5, 0.5, 0.5]\ntarget = [1.0, 1.0, 1.0]\nup = [0.0, 1.0, 0.0]\n\
+         fov_y = 90.0\n[materials.glow]\nreflectance = 0.5\nemission = 1.0\n",
+    );
+    let faces = [
+        [[0, 0, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0]],
+        [[0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]],
+        [[0, 0, 0], [0, 1, 0], [0, 1, 1], [0, 0, 1]],
+        [[1, 0, 0], [1, 0, 1], [1, 1, 1], [1, 1, 0]],
+        [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]],
+        [[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]],
+    ];
+    for (k, f) in faces.iter().enumerate() {
+        toml += &format!(
+            "[[objects]]\nname = \"wall{k}\"\nmaterial = \"glow\"\nshape = \"polygon\"\n\
+             vertices = {f:?}\n"
+        );
+    }
+    let s = solve(&toml, 600);
+    let size = 24;
+    let evaluated = raytrace::evaluate::render(
+        &s.scene,
+        &s.mesh,
+        &s.solution.radiosity,
+        &s.scene.cameras[0],
+        &image(size, 1),
+        &centred(4, 0),
+        &Watch::SILENT,
+    )
+    .expect("not stopped");
+    for y in 0..size {
+        for x in 0..size {
+            let l = evaluated.get(x, y);
+            assert!((l.x - 2.0).abs() < 0.02, "pixel ({x}, {y}): {l}");
+        }
+    }
+}
+
 const GLASS: &str = r#"
 [camera]
 eye = [0.0, 0.0, 4.0]
