@@ -29,11 +29,12 @@
 //!
 //! ```text
 //! B_i(x) = R_interpolated(x) · (1 − S(x)) + ρ(x) · N(x),
-//! N(x) = Σ_{elements s near x}  w(x, s) · F(x → s) · (B_s − E_s),     S(x) = Σ w F,
+//! N(x) = Σ_{nodes s near x}  w(x, s) · F(x → s) · (B_s − E_s),     S(x) = Σ w F,
 //! R(e) = (B_i(e) − ρ(e) · N̄(e)) / (1 − S̄(e)),
 //! ```
 //!
-//! F(x → s) Lambert's exact factor to the element (unoccluded: near surfaces see each other),
+//! the nodes s those of each patch's uniform level (deeper leaves merged into them, B_s their
+//! mean), F(x → s) Lambert's exact factor to the node (unoccluded: near surfaces see each other),
 //! w a weight falling from 1 to 0 between half and the whole of the reach
 //! ([`NEAR_REACH`] element diameters), and N̄, S̄ the means over the element's grid, so that
 //! the element's mean is kept. The near surfaces hide the far ones: into a corner S(x) grows
@@ -80,15 +81,19 @@ pub(super) struct Luminaires {
     list: Vec<Luminaire>,
 }
 
-/// The elements of a mesh, found by position, with their reflected radiosity B − E: the near
-/// part of the indirect light.
+/// The near field's sources: each patch cut at its uniform level (its shallowest elements;
+/// deeper leaves, along contact lines and shadows, are merged into their ancestor at that level,
+/// so that the count within reach stays small), found by position, with their mean reflected
+/// radiosity B − E.
 #[derive(Debug)]
 pub(super) struct NearField {
-    /// One or two triangles per element, for box queries.
+    /// One or two triangles per node, for box queries.
     bvh: Bvh,
-    /// The element of each triangle.
+    /// The index (into `nodes`) of each triangle's node.
     owner: Vec<u32>,
-    /// B − E per element.
+    /// The nodes of the cut.
+    nodes: Vec<u32>,
+    /// Mean B − E of each node's elements.
     reflected: Vec<Rgb>,
     /// The reach per patch: [`NEAR_REACH`] times its largest element's diameter.
     reach: Vec<f32>,
@@ -96,26 +101,47 @@ pub(super) struct NearField {
 
 impl NearField {
     fn new(mesh: &Mesh, radiosity: &[Rgb]) -> Self {
-        let (mut tris, mut owner) = (Vec::new(), Vec::new());
+        let mut shallowest = vec![u8::MAX; mesh.patches.len()];
         let mut reach = vec![0.0f32; mesh.patches.len()];
         for e in 0..mesh.element_count() {
             let node = mesh.element(e);
-            let c = node.face.corners();
-            tris.push([c[0], c[1], c[2]]);
-            owner.push(e as u32);
-            if let [a, _, c, d] = *c {
-                tris.push([a, c, d]);
-                owner.push(e as u32);
-            }
-            let r = &mut reach[node.patch as usize];
-            *r = r.max(NEAR_REACH * node.face.diameter());
+            let p = node.patch as usize;
+            shallowest[p] = shallowest[p].min(node.level);
+            reach[p] = reach[p].max(NEAR_REACH * node.face.diameter());
         }
-        let reflected = (0..mesh.element_count())
-            .map(|e| radiosity[e] - mesh.element_patch(e).emission)
-            .collect();
+        let (mut tris, mut owner, mut nodes, mut reflected) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (p, roots) in mesh.roots.iter().enumerate() {
+            let mut stack: Vec<u32> = roots.clone().collect();
+            while let Some(n) = stack.pop() {
+                let node = &mesh.nodes[n as usize];
+                match node.children {
+                    Some(c) if node.level < shallowest[p] => stack.extend(c..c + 4),
+                    _ => {
+                        let (mut area, mut sum) = (0.0, Rgb::ZERO);
+                        for e in node.elements.clone() {
+                            let a = mesh.element(e as usize).face.area();
+                            area += a;
+                            sum += (radiosity[e as usize] - mesh.patches[p].emission) * a;
+                        }
+                        let k = nodes.len() as u32;
+                        nodes.push(n);
+                        reflected.push(if area > 0.0 { sum / area } else { Rgb::ZERO });
+                        let c = node.face.corners();
+                        tris.push([c[0], c[1], c[2]]);
+                        owner.push(k);
+                        if let [a, _, c, d] = *c {
+                            tris.push([a, c, d]);
+                            owner.push(k);
+                        }
+                    }
+                }
+            }
+        }
         Self {
             bvh: Bvh::build(&tris),
             owner,
+            nodes,
             reflected,
             reach,
         }
@@ -140,7 +166,7 @@ impl NearField {
                 return;
             }
             seen.push(e);
-            let face = &mesh.element(e as usize).face;
+            let face = &mesh.nodes[self.nodes[e as usize] as usize].face;
             let d = face.centroid().distance(point) / reach;
             let w = f64::from((2.0 - 2.0 * d).clamp(0.0, 1.0));
             if w <= 0.0 {
