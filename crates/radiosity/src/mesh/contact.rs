@@ -49,6 +49,12 @@ pub const CONTACT_LEVELS: u8 = 3;
 /// [`CONTACT_LEVELS`].
 pub const COVER_LEVELS: u8 = 6;
 
+/// The search around a leaf reaches at most this many of its diameters (and at most the
+/// largest triangle's [`STAND`] reach): a reach set by the scene's largest triangle alone (a
+/// 20 m floor) made every small leaf of a million-triangle scene test thousands of triangles
+/// (`radiosity bench --suite hierarchical`, the 1 024 002-triangle field: 312 s).
+const QUERY_DIAMETERS: f32 = 8.0;
+
 /// Relative tolerance of the contact test, as a fraction of the leaf's diameter.
 const TOLERANCE: f32 = 1e-4;
 
@@ -114,7 +120,8 @@ impl Mesh {
             .fold(0.0, f32::max);
         let eps = (TOLERANCE * node.face.diameter()).max(8.0 * f32::EPSILON * magnitude);
         let mut wanted = 0;
-        self.other_triangles_near(bvh, n, reach.max(eps), |t| {
+        let reach = reach.min(QUERY_DIAMETERS * node.face.diameter()).max(eps);
+        self.other_triangles_near(bvh, n, reach, |t| {
             if wanted <= done {
                 let polygon = self.triangle_polygon[t] as usize;
                 let facing_light = lights[polygon].is_some_and(|n| n.dot(patch.normal) < 0.0);

@@ -41,9 +41,19 @@ pub const SHADOW_LEVELS: u8 = 2;
 const GRID: u32 = 3;
 
 /// Most sample points on all emitters together: a square grid on each root face of each
-/// emitting polygon, up to 36 per polygon; with more emitting polygons than this, every k-th
+/// emitting polygon, up to 36 per polygon; with more emitting polygons than that, every k-th
 /// polygon's centre stands for k of them.
 const EMITTER_SAMPLES: usize = 64;
+
+/// Most shadow rays of the first pass (elements × test points × emitter samples): on meshes of
+/// hundreds of thousands of root faces, which the hierarchical solver starts from, the emitter
+/// samples fall to keep within it (never below [`MIN_EMITTER_SAMPLES`]). Measured with
+/// `radiosity bench --suite hierarchical`: the 256 002-triangle sphere field took 28.0 s before
+/// shadow refinement and 33.5 s with 64 samples.
+const RAY_BUDGET: usize = 40_000_000;
+
+/// The fewest emitter samples the budget leaves.
+const MIN_EMITTER_SAMPLES: usize = 4;
 
 /// The smallest jump of blocked direct radiosity across an element that splits it, as a
 /// fraction of the brightest element's mean direct radiosity (the hierarchical solver's
@@ -69,7 +79,9 @@ impl Mesh {
     /// crossed children, down to [`SHADOW_LEVELS`] below its patch's uniform level (never below
     /// [`MAX_LEVEL`]).
     pub(super) fn refine_shadows(&mut self, bvh: &Bvh) {
-        let samples = self.emitter_samples();
+        let per_element = self.elements.len().max(1) * (GRID * GRID) as usize;
+        let most = (RAY_BUDGET / per_element).clamp(MIN_EMITTER_SAMPLES, EMITTER_SAMPLES);
+        let samples = self.emitter_samples(most);
         if samples.is_empty() {
             return;
         }
@@ -131,13 +143,14 @@ impl Mesh {
         }
     }
 
-    /// Sample points on the front of every emitting patch (see [`EMITTER_SAMPLES`]).
-    fn emitter_samples(&self) -> Vec<Sample> {
+    /// At most `most` sample points on the fronts of the emitting patches (see
+    /// [`EMITTER_SAMPLES`]).
+    fn emitter_samples(&self, most: usize) -> Vec<Sample> {
         let emitters: Vec<usize> = (0..self.patches.len())
             .filter(|&p| !self.patches[p].back && self.patches[p].emission.max_element() > 0.0)
             .collect();
-        let stride = emitters.len().div_ceil(EMITTER_SAMPLES).max(1);
-        let per_polygon = (EMITTER_SAMPLES / emitters.len().max(1)).clamp(1, 36);
+        let stride = emitters.len().div_ceil(most).max(1);
+        let per_polygon = (most / emitters.len().max(1)).clamp(1, 36);
         let mut out = Vec::new();
         for &p in emitters.iter().step_by(stride) {
             let patch = &self.patches[p];
