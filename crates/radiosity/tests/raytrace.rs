@@ -257,6 +257,23 @@ shape = "polygon"
 vertices = [[-0.1, 2, -0.1], [0.1, 2, -0.1], [0.1, 2, 0.1], [-0.1, 2, 0.1]]
 "#;
 
+/// The pixel of the `SHADOW` scene showing floor point `p`, and the exact direct irradiance
+/// E_d = π L_e F at the floor point its centre sees (a pixel spans a few millimetres of floor).
+fn shadow_direct(s: &Solved, size: u32, p: Vec3) -> ((u32, u32), f64) {
+    let light = [
+        [-0.1, 2.0, -0.1],
+        [0.1, 2.0, -0.1],
+        [0.1, 2.0, 0.1],
+        [-0.1, 2.0, 0.1],
+    ]
+    .map(DVec3::from_array);
+    let (x, y) = pixel_of(s, size, p);
+    let proj = Projection::new(&s.scene.cameras[0], size, size);
+    let (o, d) = proj.primary_ray(x as f32 + 0.5, y as f32 + 0.5);
+    let q = (o + d * (-o.y / d.y)).as_dvec3();
+    ((x, y), PI * 10.0 * point_to_polygon(q, DVec3::Y, &light))
+}
+
 #[test]
 fn a_blocker_casts_its_shadow_where_geometry_says() {
     // The blocker (|x|, |z| ≤ 0.3 at y = 1) is half-way between the light (|x|, |z| ≤ 0.1 at
@@ -299,20 +316,8 @@ fn a_blocker_casts_its_shadow_where_geometry_says() {
             gathered.get(x, y)
         );
     }
-    let light = [
-        [-0.1, 2.0, -0.1],
-        [0.1, 2.0, -0.1],
-        [0.1, 2.0, 0.1],
-        [-0.1, 2.0, 0.1],
-    ]
-    .map(DVec3::from_array);
     for p in [Vec3::new(0.85, 0.0, 0.0), Vec3::new(0.8, 0.0, 0.5)] {
-        let (x, y) = pixel_of(&s, size, p);
-        // The pixel spans a few millimetres of floor: take its centre's floor point.
-        let proj = Projection::new(camera, size, size);
-        let (o, d) = proj.primary_ray(x as f32 + 0.5, y as f32 + 0.5);
-        let q = (o + d * (-o.y / d.y)).as_dvec3();
-        let e_direct = PI * 10.0 * point_to_polygon(q, DVec3::Y, &light);
+        let ((x, y), e_direct) = shadow_direct(&s, size, p);
         // Fully lit: local = ρ/π (E + A); 64 stratified samples of a small light are within
         // 2 %.
         let want = rho / PI * (e_direct + ambient);
@@ -354,24 +359,13 @@ fn the_evaluated_render_gives_the_exact_direct_light_and_a_black_umbra() {
             evaluated.get(x, y)
         );
     }
-    let light = [
-        [-0.1, 2.0, -0.1],
-        [0.1, 2.0, -0.1],
-        [0.1, 2.0, 0.1],
-        [-0.1, 2.0, 0.1],
-    ]
-    .map(DVec3::from_array);
-    let proj = Projection::new(camera, size, size);
     for (p, tolerance) in [
         (Vec3::new(0.85, 0.0, 0.0), 0.005),
         (Vec3::new(0.95, 0.0, -0.3), 0.005),
         (Vec3::new(0.8, 0.0, 0.5), 0.02),
     ] {
-        let (x, y) = pixel_of(&s, size, p);
-        let (o, d) = proj.primary_ray(x as f32 + 0.5, y as f32 + 0.5);
-        let q = (o + d * (-o.y / d.y)).as_dvec3();
-        // ρ/π · E_d with E_d = π L_e F = 10 π F.
-        let want = 0.5 / PI * 10.0 * PI * point_to_polygon(q, DVec3::Y, &light);
+        let ((x, y), e_direct) = shadow_direct(&s, size, p);
+        let want = 0.5 / PI * e_direct;
         let got = evaluated.get(x, y).x;
         assert!(
             (got / want - 1.0).abs() < tolerance,

@@ -250,6 +250,19 @@ impl Mesh {
         &self.patches[self.element(e).patch as usize]
     }
 
+    /// The shallowest leaf level of each patch: the level its uniform subdivision reached
+    /// (contact and shadow refinement only go deeper).
+    #[must_use]
+    pub fn uniform_levels(&self) -> Vec<u8> {
+        let mut levels = vec![MAX_LEVEL; self.patches.len()];
+        for &n in &self.elements {
+            let node = &self.nodes[n as usize];
+            let level = &mut levels[node.patch as usize];
+            *level = (*level).min(node.level);
+        }
+        levels
+    }
+
     /// Total area of all patches (both sides of two-sided polygons count).
     #[must_use]
     pub fn total_area(&self) -> f64 {

@@ -97,15 +97,9 @@ impl Mesh {
         // No deeper than SHADOW_LEVELS below the patch's uniform level (its shallowest
         // element): a strip already split along a contact line or a cover's outline stays as
         // it is.
-        let mut shallowest = vec![MAX_LEVEL; self.patches.len()];
-        for &n in &self.elements {
-            let node = &self.nodes[n as usize];
-            let s = &mut shallowest[node.patch as usize];
-            *s = (*s).min(node.level);
-        }
+        let uniform = self.uniform_levels();
         let deepest = |mesh: &Mesh, n: u32| {
-            let shallowest = shallowest[mesh.nodes[n as usize].patch as usize];
-            (shallowest + SHADOW_LEVELS).min(MAX_LEVEL)
+            (uniform[mesh.nodes[n as usize].patch as usize] + SHADOW_LEVELS).min(MAX_LEVEL)
         };
         let mut split: Vec<u32> = self
             .elements

@@ -49,7 +49,7 @@ use rayon::prelude::*;
 
 use super::sample::Sampler;
 use super::world::World;
-use super::{render_primary, RaytraceSettings, Tracer, Watch};
+use super::{trace_image, RaytraceSettings, Watch};
 use crate::accel::{Aabb, Bvh};
 use crate::formfactor::analytic::point_to_polygon;
 use crate::mesh::{display, Face, Mesh};
@@ -101,13 +101,12 @@ pub(super) struct NearField {
 
 impl NearField {
     fn new(mesh: &Mesh, radiosity: &[Rgb]) -> Self {
-        let mut shallowest = vec![u8::MAX; mesh.patches.len()];
+        let uniform = mesh.uniform_levels();
         let mut reach = vec![0.0f32; mesh.patches.len()];
         for e in 0..mesh.element_count() {
             let node = mesh.element(e);
-            let p = node.patch as usize;
-            shallowest[p] = shallowest[p].min(node.level);
-            reach[p] = reach[p].max(NEAR_REACH * node.face.diameter());
+            let r = &mut reach[node.patch as usize];
+            *r = r.max(NEAR_REACH * node.face.diameter());
         }
         let (mut tris, mut owner, mut nodes, mut reflected) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -116,7 +115,7 @@ impl NearField {
             while let Some(n) = stack.pop() {
                 let node = &mesh.nodes[n as usize];
                 match node.children {
-                    Some(c) if node.level < shallowest[p] => stack.extend(c..c + 4),
+                    Some(c) if node.level < uniform[p] => stack.extend(c..c + 4),
                     _ => {
                         let (mut area, mut sum) = (0.0, Rgb::ZERO);
                         for e in node.elements.clone() {
@@ -310,18 +309,7 @@ pub fn render(
     };
     let lit = display::lit_mesh(mesh, &far);
     let world = World::new(scene, mesh, &lit);
-    let tracer = Tracer {
-        world: &world,
-        settings,
-        evaluation: Some(&evaluation),
-    };
-    render_primary(
-        camera,
-        image,
-        settings.jitter,
-        watch,
-        |origin, dir, sampler| tracer.trace(origin, dir, 0, Rgb::ONE, sampler),
-    )
+    trace_image(&world, Some(&evaluation), camera, image, settings, watch)
 }
 
 /// (B(e) − E(e) − ρ(e) · (Ē_d(e) + N̄(e))) / (1 − S̄(e)) for every element: the far part of

@@ -113,10 +113,23 @@ pub fn render(
     watch: &Watch,
 ) -> Option<Image> {
     let world = World::new(scene, mesh, lit);
+    trace_image(&world, None, camera, image, settings, watch)
+}
+
+/// Traces the image of `world` through `camera`, with `evaluation` at the diffuse hits if given
+/// (see [`Tracer::evaluation`]). Shared by [`render`] and [`evaluate::render`].
+fn trace_image(
+    world: &World,
+    evaluation: Option<&Evaluation>,
+    camera: &Camera,
+    image: &RasterSettings,
+    settings: &RaytraceSettings,
+    watch: &Watch,
+) -> Option<Image> {
     let tracer = Tracer {
-        world: &world,
+        world,
         settings,
-        evaluation: None,
+        evaluation,
     };
     render_primary(
         camera,
