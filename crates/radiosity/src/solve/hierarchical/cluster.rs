@@ -8,29 +8,26 @@
 //! clusters only where the light they exchange is large enough to matter.
 //!
 //! Each cluster keeps its bounding sphere (centre and radius, from its box), its surface area
-//! A (every face counted, both sides of a two-sided polygon separately) and its vector area
-//! **V** = Σ A_f n_f. Light leaving or arriving at a cluster is modelled by its front-facing
-//! projected area in direction ω,
-//!
-//! ```text
-//! P(ω) = max(0, V·ω) + (A − |V|)/4 ,
-//! ```
-//!
-//! the isotropic model of Smits et al. 1994 (§4: every direction sees A/4, the mean projected
-//! area of uniformly oriented surfaces — exact for a closed convex object by Cauchy's formula,
-//! where V = 0) corrected by the cluster's net orientation, which makes it exact for a flat
-//! cluster (|V| = A) as well. Self-shadowing inside the cluster is ignored. See
-//! [`super::link`] for what the model costs in accuracy.
+//! A (every face counted, both sides of a two-sided polygon separately), its vector area
+//! **V** = Σ A_f n_f and its front-facing projected area P(ω) = Σ_f A_f max(0, n_f·ω) in every
+//! direction, tabulated ([`super::projected`]); light leaves and reaches it through P(ω).
+//! Self-shadowing inside the cluster is ignored. See [`super::link`] for what the model
+//! costs in accuracy.
 
 use std::ops::Range;
 
 use glam::Vec3;
 
+use super::projected::{self, Projected};
 use crate::accel::Aabb;
 use crate::mesh::Mesh;
 
 /// Most root faces directly under a leaf cluster.
 pub const LEAF_FACES: usize = 4;
+
+/// Clusters of more faces than this keep a table of their projected area (500 bytes); smaller
+/// ones sum their faces when asked.
+pub const TABULATED: usize = 32;
 
 /// One cluster: a node of the binary tree over root faces.
 #[derive(Clone, Debug)]
@@ -43,6 +40,8 @@ pub struct Cluster {
     pub area: f64,
     /// Σ A_f n_f over its faces.
     pub vector_area: glam::DVec3,
+    /// Its projected area P(ω), tabulated when it has more than [`TABULATED`] faces.
+    pub projected: Option<Projected>,
     /// D_k = Σ A_f max(0, n_f·e_k) over its faces, for the six axis directions e_k of
     /// [`axis_weights`]: how much of it faces each way (see [`super::push_pull`]).
     pub facing: [f64; 6],
@@ -118,15 +117,58 @@ impl Clusters {
             .iter()
             .map(|&f| axis_weights(mesh.nodes[f as usize].face.vector_area()))
             .collect();
+        out.tabulate();
         debug_assert_eq!(out.validate(mesh), Ok(()));
         out
     }
 
     /// The projected area P(ω) of cluster `c` toward the unit direction `w` (module docs).
+    /// P(ω) = Σ_f A_f max(0, n_f·ω) of cluster `c` for a unit direction ω (module docs): from
+    /// its table, or summed over its faces.
     #[must_use]
     pub fn projected_area(&self, c: usize, w: glam::DVec3) -> f64 {
         let c = &self.nodes[c];
-        c.vector_area.dot(w).max(0.0) + 0.25 * (c.area - c.vector_area.length()).max(0.0)
+        match &c.projected {
+            Some(table) => table.along(w),
+            None => projected::exact(
+                self.face_facing[c.faces.start as usize..c.faces.end as usize]
+                    .iter()
+                    .map(vector_area),
+                w,
+            ),
+        }
+    }
+
+    /// Tables of P for the clusters of more than [`TABULATED`] faces, bottom up: a parent's
+    /// is the sum of its children's (or of a small child's faces).
+    fn tabulate(&mut self) {
+        for c in (0..self.nodes.len()).rev() {
+            let cluster = &self.nodes[c];
+            if cluster.faces.len() <= TABULATED {
+                continue;
+            }
+            let mut table = Projected::default();
+            let parts: Vec<u32> = match cluster.children {
+                Some([a, b]) => vec![a, b],
+                None => Vec::new(),
+            };
+            let mut loose = Vec::new();
+            if parts.is_empty() {
+                loose.push(cluster.faces.clone());
+            }
+            for k in parts {
+                match &self.nodes[k as usize].projected {
+                    Some(t) => table.add(t),
+                    None => loose.push(self.nodes[k as usize].faces.clone()),
+                }
+            }
+            for range in loose {
+                for f in &self.face_facing[range.start as usize..range.end as usize] {
+                    table.add_face(vector_area(f));
+                }
+            }
+            self.nodes[c].projected = Some(table);
+        }
     }
 
     /// Appends a cluster over the faces `ids` (indices into `faces`) placed at `offset` of
@@ -151,6 +193,7 @@ impl Clusters {
             radius: 0.5 * (b.max - b.min).length(),
             area,
             vector_area,
+            projected: None,
             facing,
             faces: offset as u32..(offset + ids.len()) as u32,
             children: None,
@@ -255,6 +298,7 @@ impl Build<'_> {
             radius: 0.0,
             area: 0.0,
             vector_area: glam::DVec3::ZERO,
+            projected: None,
             facing: [0.0; 6],
             faces: 0..0,
             children: None,
@@ -329,4 +373,9 @@ fn longest_axis(points: impl Iterator<Item = Vec3>) -> usize {
     } else {
         2
     }
+}
+
+/// The vector area A n of a face from its [`axis_weights`].
+fn vector_area(w: &[f64; 6]) -> glam::DVec3 {
+    glam::DVec3::new(w[0] - w[1], w[2] - w[3], w[4] - w[5])
 }

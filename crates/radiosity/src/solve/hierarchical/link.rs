@@ -18,15 +18,15 @@
 //!   Faces of one patch (coplanar) and faces behind each other get no link.
 //! - **Cluster involved**: the point-to-point kernel F ≈ A_s c_r c_s / (π d²) between the
 //!   bounding-sphere centres d apart, with c = max(0, n·ω) for a face and c = P(ω)/A for a
-//!   cluster (its projected area over its area: [`super::cluster`], after the isotropic model
-//!   of Smits, Arvo & Greenberg 1994). The estimate is only trusted when the spheres are
+//!   cluster (its projected area over its area, tabulated: [`super::projected`]; Smits, Arvo &
+//!   Greenberg 1994 took it isotropic). The estimate is only trusted when the spheres are
 //!   disjoint and no face's plane cuts the other side's sphere; otherwise the oracle must open
 //!   the cluster ([`Estimate::Open`]). V is sampled with 4 rays between front-facing member
 //!   faces.
 //!
 //! The error of the cluster model is bounded by the oracle: a cluster link survives only if
 //! B_s·F·A_r ≤ [`super::refine::VARIATION`]·ε·Φ (its spread is taken as F itself), and the
-//! model's projected area is off by at most a factor ~4 (mixed orientations, self-shadowing),
+//! model's projected area is off by at most a factor ~4 (self-shadowing),
 //! so each surviving cluster link misplaces at most ~ε/2 of the emitted power.
 //!
 //! Rays are jittered by a hash of (receiver, source, ray): node ids never change once made, so
@@ -326,12 +326,11 @@ impl<'a> View<'a> {
             if cluster.area <= 0.0 {
                 return (0.0, 0.0, 0.0);
             }
-            // V·ω moves by at most |V|·α when ω turns by α.
-            let turn = cluster.vector_area.length() * alpha;
-            let isotropic = 0.25 * (cluster.area - cluster.vector_area.length()).max(0.0);
-            let along = cluster.vector_area.dot(w);
-            let p = |x: f64| (x.max(0.0) + isotropic) / cluster.area;
-            return (p(along - turn), p(along), p(along + turn));
+            // P(ω) = ½ V·ω + ½ Σ A_f |n_f·ω| moves by at most (|V| + A)·α/2 when ω turns by α.
+            let turn = 0.5 * (cluster.vector_area.length() + cluster.area) * alpha;
+            let p = self.clusters.projected_area(c, w);
+            let c = |x: f64| (x / cluster.area).clamp(0.0, 1.0);
+            return (c(p - turn), c(p), c(p + turn));
         }
         let node = &self.mesh.nodes[h as usize];
         let n = self.mesh.patches[node.patch as usize].normal.as_dvec3();

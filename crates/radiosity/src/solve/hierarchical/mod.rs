@@ -38,6 +38,7 @@
 
 pub mod cluster;
 pub mod link;
+pub mod projected;
 pub mod push_pull;
 pub mod refine;
 
