@@ -139,6 +139,13 @@ impl Clusters {
         }
     }
 
+    /// Bytes held by the tables of projected area.
+    #[must_use]
+    pub fn table_bytes(&self) -> u64 {
+        let tables = self.nodes.iter().filter(|c| c.projected.is_some()).count();
+        tables as u64 * Projected::BYTES
+    }
+
     /// Tables of P for the clusters of more than [`TABULATED`] faces, bottom up: a parent's
     /// is the sum of its children's (or of a small child's faces).
     fn tabulate(&mut self) {

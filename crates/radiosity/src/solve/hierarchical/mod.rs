@@ -34,7 +34,8 @@
 //! Memory: a link is 16 bytes ([`link::Link`]); an element costs its quadtree node
 //! (`size_of::<Node>()`, 64 bytes), its index (4 bytes) and the solver state of
 //! [`push_pull::State`] (56 bytes): [`BYTES_PER_NODE`] for each node of the hierarchy;
-//! a cluster is 48 bytes plus its state (48 bytes).
+//! a cluster is 48 bytes plus its state (48 bytes), and 500 bytes more for the table of its
+//! projected area when it has more than [`cluster::TABULATED`] faces.
 
 pub mod cluster;
 pub mod link;
@@ -295,5 +296,6 @@ fn gradient_receivers(mesh: &Mesh, state: &State) -> Vec<u32> {
 fn memory(mesh: &Mesh, clusters: &Clusters, links: usize) -> u64 {
     mesh.nodes.len() as u64 * BYTES_PER_NODE
         + clusters.nodes.len() as u64 * BYTES_PER_CLUSTER
+        + clusters.table_bytes()
         + links as u64 * std::mem::size_of::<Link>() as u64
 }

@@ -44,6 +44,9 @@ impl Default for Projected {
 }
 
 impl Projected {
+    /// Bytes of one table.
+    pub const BYTES: u64 = (ENTRIES * std::mem::size_of::<f32>()) as u64;
+
     /// Adds another table (the faces of both).
     pub fn add(&mut self, other: &Projected) {
         for (a, b) in self.0.iter_mut().zip(other.0.iter()) {
