@@ -7,12 +7,14 @@ use std::time::Instant;
 
 use anyhow::Result;
 use radiosity::io::image_file::write_image;
+use radiosity::mesh::{display, Mesh, Subdivision};
 use radiosity::pipeline::Solved;
 use radiosity::render::local::{self, LocalSettings};
 use radiosity::render::raytrace::{self, RaytraceSettings, Watch};
 use radiosity::render::{self, compare, tonemap, Image, RasterSettings};
 use radiosity::scene::Camera;
 use radiosity::Rgb;
+use radiosity::Scene;
 
 use crate::args::{CompareArgs, Mode};
 use crate::bars::Bars;
@@ -31,35 +33,60 @@ pub fn render_mode(
     quiet: bool,
 ) -> Result<Image> {
     let (scene, mesh, lit) = (&solved.scene, &solved.mesh, &solved.lit);
-    let bars = Bars::new(!quiet && std::io::stderr().is_terminal());
-    let stop = job::stop_flag();
-    let watch = Watch {
-        progress: &bars,
-        stop: Some(&stop),
-    };
-    let image = match mode {
+    watched(quiet, |watch| match mode {
         Mode::Radiosity => Some(render::render(lit, camera, raster)),
         Mode::Local => {
             let settings = LocalSettings {
                 shadows,
                 ..LocalSettings::default()
             };
-            local::render(scene, mesh, lit, camera, raster, &settings, &watch)
+            local::render(scene, mesh, lit, camera, raster, &settings, watch)
         }
         Mode::Raytrace => {
             let settings = RaytraceSettings {
                 gather,
                 ..RaytraceSettings::default()
             };
-            raytrace::render(scene, mesh, lit, camera, raster, &settings, &watch)
+            raytrace::render(scene, mesh, lit, camera, raster, &settings, watch)
         }
         Mode::Final => {
             let radiosity = &solved.solution.radiosity;
             let settings = RaytraceSettings::default();
-            raytrace::evaluate::render(scene, mesh, radiosity, camera, raster, &settings, &watch)
+            raytrace::evaluate::render(scene, mesh, radiosity, camera, raster, &settings, watch)
         }
+    })
+}
+
+/// Local illumination of `scene` without a radiosity solve: its patches unsubdivided (the local
+/// model reads only the geometry and the emitters).
+pub fn render_local(
+    scene: &Scene,
+    camera: &Camera,
+    raster: &RasterSettings,
+    shadows: bool,
+    quiet: bool,
+) -> Result<Image> {
+    let mesh = Mesh::build(scene, Subdivision::MaxArea(f64::INFINITY));
+    let lit = display::lit_mesh(&mesh, &vec![Rgb::ZERO; mesh.element_count()]);
+    let settings = LocalSettings {
+        shadows,
+        ..LocalSettings::default()
     };
-    image
+    watched(quiet, |watch| {
+        local::render(scene, &mesh, &lit, camera, raster, &settings, watch)
+    })
+}
+
+/// Runs a render with a progress bar (on a terminal, unless `quiet`) and the Ctrl-C flag;
+/// `None` from it is an interruption.
+fn watched(quiet: bool, render: impl FnOnce(&Watch) -> Option<Image>) -> Result<Image> {
+    let bars = Bars::new(!quiet && std::io::stderr().is_terminal());
+    let stop = job::stop_flag();
+    let watch = Watch {
+        progress: &bars,
+        stop: Some(&stop),
+    };
+    render(&watch)
         .ok_or_else(|| job::Interrupted("interrupted while rendering: wrote nothing".into()).into())
 }
 

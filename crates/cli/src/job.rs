@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use radiosity::io::atomic::write_atomic;
-use radiosity::io::gltf::{write_glb, VertexColours};
+use radiosity::io::gltf::{write_glb, Placement, VertexColours};
 use radiosity::io::html;
 use radiosity::io::image_file::write_image;
 use radiosity::io::ply::write_ply;
@@ -43,6 +43,20 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     }
     if args.no_shadows && args.mode != Mode::Local {
         bail!("--no-shadows applies to --mode local only");
+    }
+    if args.mode == Mode::Local {
+        let common = &args.common;
+        for (given, flag) in [
+            (common.stats.is_some(), "--stats"),
+            (common.plot.is_some(), "--plot"),
+            (!common.export.is_empty(), "--export"),
+            (common.checkpoint.is_some(), "--checkpoint"),
+            (common.resume.is_some(), "--resume"),
+        ] {
+            if given {
+                bail!("{flag}: --mode local does not solve the radiosity (leave out --mode local)");
+            }
+        }
     }
     for path in &args.outputs {
         check_output(path, "image", &IMAGE_EXTENSIONS)?;
@@ -105,6 +119,18 @@ fn render_job(args: &RenderArgs) -> Result<()> {
     } else {
         args.outputs.clone()
     };
+    if args.mode == Mode::Local {
+        let image =
+            compare::render_local(&scene, &camera, &raster, !args.no_shadows, common.quiet)?;
+        let exposure = args
+            .exposure
+            .unwrap_or_else(|| tonemap::auto_exposure(&image));
+        for path in &outputs {
+            write_image(path, &image, exposure)?;
+            say(common, &format!("wrote {}", path.display()));
+        }
+        return Ok(());
+    }
     let solved = run_solve(scene, common)?;
 
     let render_start = Instant::now();
@@ -301,7 +327,18 @@ pub(crate) fn finish(
             .collect();
         let colours = common.export_exposure;
         let written = match extension(path).as_str() {
-            "glb" => write_glb(path, &solved.lit, &names, glb_colours(colours)),
+            "glb" => write_glb(
+                path,
+                &solved.lit,
+                &names,
+                glb_colours(colours),
+                &Placement {
+                    metres_per_unit: solved.scene.units.metres(),
+                    cameras: &solved.scene.cameras,
+                    aspect: solved.scene.render.width as f32
+                        / solved.scene.render.height.max(1) as f32,
+                },
+            ),
             "html" => html::write_solved(path, solved, html_exposure(colours)),
             _ => write_ply(path, &solved.lit, &names),
         };

@@ -401,6 +401,11 @@ fn bad_inputs_exit_2_with_one_line_and_no_output() {
         &["lit.stl"],
     );
     assert_fails(
+        "stats-under-local",
+        &with(&["render", "room.toml", "--mode", "local", "--plot", "p.svg"]),
+        &["--", "--mode local does not solve"],
+    );
+    assert_fails(
         "gather-without-raytrace",
         &with(&["render", "room.toml", "--mode", "local", "--gather", "4"]),
         &["--gather applies to --mode raytrace only"],
@@ -527,5 +532,30 @@ fn the_camera_can_be_set_from_the_command_line() {
         "b.png",
     );
     assert_ne!(scene_camera, moved);
+    fs::remove_dir_all(&dir).expect("cleanup");
+}
+
+#[test]
+fn local_mode_renders_without_a_radiosity_solve() {
+    // Local illumination reads only the geometry and the emitters: no solve runs (its summary
+    // line names the solver and its iterations), and the picture differs from radiosity's.
+    let dir = scratch("local");
+    fs::write(dir.join("room.toml"), scene_text("")).expect("write scene");
+    let head = ["render", "room.toml", "--width", "16", "--height", "16"];
+    let local = run(
+        &dir,
+        &[&head[..], &["--mode", "local", "-o", "l.png"]].concat(),
+    );
+    assert!(local.status.success(), "{}", stderr(&local));
+    let said = String::from_utf8_lossy(&local.stdout).to_string() + &stderr(&local);
+    assert!(!said.contains("iterations"), "{said}");
+    let solved = run(&dir, &[&head[..], &["-o", "r.png"]].concat());
+    assert!(solved.status.success(), "{}", stderr(&solved));
+    let said = String::from_utf8_lossy(&solved.stdout).to_string() + &stderr(&solved);
+    assert!(said.contains("iterations"), "{said}");
+    assert_ne!(
+        fs::read(dir.join("l.png")).expect("local image"),
+        fs::read(dir.join("r.png")).expect("radiosity image")
+    );
     fs::remove_dir_all(&dir).expect("cleanup");
 }

@@ -12,7 +12,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use radiosity::io::gltf::{write_glb, VertexColours};
+use radiosity::io::gltf::{write_glb, Placement, VertexColours};
 use radiosity::io::{html, image_file, ply};
 use radiosity::mesh::Subdivision;
 use radiosity::pipeline::{self, Settings};
@@ -63,6 +63,11 @@ fn main() -> Result<()> {
             &solved.lit,
             &names,
             VertexColours::Exposure(exposure),
+            &Placement {
+                metres_per_unit: solved.scene.units.metres(),
+                cameras: &solved.scene.cameras,
+                aspect: 1.0,
+            },
         )?)
     })?;
     let ply = out.join(format!("{name}.ply"));

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use glam::Vec3;
-use radiosity::io::gltf::{vertex_colours, write_glb, VertexColours};
+use radiosity::io::gltf::{vertex_colours, write_glb, Placement, VertexColours};
 use radiosity::io::gltf_import::read_gltf;
 use radiosity::mesh::Subdivision;
 use radiosity::pipeline::{self, Settings, Solved};
@@ -81,7 +81,14 @@ fn obj_to_glb_round_trip_keeps_triangles_names_and_colours() {
     let solved = solve(Scene::load(&write_obj_scene(&dir)).expect("obj scene"));
     let glb = dir.join("room.glb");
     let mode = VertexColours::AutoExposure;
-    write_glb(&glb, &solved.lit, &names(&solved), mode).expect("write glb");
+    write_glb(
+        &glb,
+        &solved.lit,
+        &names(&solved),
+        mode,
+        &Placement::default(),
+    )
+    .expect("write glb");
 
     let colours = vertex_colours(&solved.lit, mode);
     let lit = &solved.lit;
@@ -170,6 +177,7 @@ fn a_glb_is_usable_as_a_mesh_object() {
         &solved.lit,
         &names(&solved),
         VertexColours::AutoExposure,
+        &Placement::default(),
     )
     .expect("glb");
     let toml = r#"
@@ -247,7 +255,12 @@ fn khronos_validator_reports_no_errors() {
         ("linear.glb", VertexColours::Linear),
     ] {
         let glb = dir.join(file);
-        write_glb(&glb, &solved.lit, &names(&solved), mode).expect("glb");
+        let placement = Placement {
+            metres_per_unit: solved.scene.units.metres(),
+            cameras: &solved.scene.cameras,
+            aspect: 1.0,
+        };
+        write_glb(&glb, &solved.lit, &names(&solved), mode, &placement).expect("glb");
         let script = "const v = require('gltf-validator'); const fs = require('fs');\
             v.validateBytes(new Uint8Array(fs.readFileSync(process.argv[1])))\
              .then(r => console.log(JSON.stringify(r.issues)))\
@@ -296,5 +309,55 @@ fn a_malformed_gltf_is_reported_at_its_line_and_column() {
             .contains("broken.gltf:4:3: invalid glTF: expected `,` or `}`"),
         "{e}"
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// glTF lengths are metres: the built-in Cornell box (`units = "mm"`) arrives 0.56 m wide, not
+/// 560 m, and its camera comes with it (at the eye, looking at the target, the same field of
+/// view), read back by our own importer as Blender and three.js read it.
+#[test]
+fn glb_is_in_metres_and_carries_the_cameras() {
+    let dir = temp_dir("units");
+    let scene = radiosity::scene::builtin::load("cornell")
+        .expect("built in")
+        .expect("loads");
+    assert_eq!(scene.units, radiosity::scene::units::Units::Millimetres);
+    let solved = solve(scene);
+    let glb = dir.join("cornell.glb");
+    let placement = Placement {
+        metres_per_unit: solved.scene.units.metres(),
+        cameras: &solved.scene.cameras,
+        aspect: 1.0,
+    };
+    write_glb(
+        &glb,
+        &solved.lit,
+        &names(&solved),
+        VertexColours::AutoExposure,
+        &placement,
+    )
+    .expect("glb");
+    let back = read_gltf(&glb).expect("re-import");
+    let (lo, hi) = back.mesh.positions.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    // The published box spans 0..556 mm in x and 0..548.8 mm in y (the light's ceiling).
+    assert!(
+        (hi.y - 0.5488).abs() < 1e-4 && lo.y.abs() < 1e-4,
+        "{lo} {hi}"
+    );
+    assert!((0.55..0.56).contains(&hi.x), "{hi}");
+    let original = &solved.scene.cameras[0];
+    let camera = &back.cameras[0];
+    assert!(
+        (camera.eye - original.eye * 0.001).length() < 1e-5,
+        "{camera:?}"
+    );
+    let view = (camera.target - camera.eye).normalize();
+    let expected = (original.target - original.eye).normalize();
+    assert!(view.dot(expected) > 0.99999, "{view} vs {expected}");
+    assert!(camera.up.dot(Vec3::Y) > 0.99999, "{:?}", camera.up);
+    assert!((camera.fov_y - original.fov_y).abs() < 1e-3, "{camera:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }

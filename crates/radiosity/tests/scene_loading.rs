@@ -444,3 +444,22 @@ fn modeling_shapes_report_errors_at_their_keys() {
         "{e}"
     );
 }
+
+#[test]
+fn units_are_read_and_an_unknown_one_is_named_with_its_line() {
+    use radiosity::scene::units::Units;
+    let body = "[materials.w]\nreflectance = [0.5, 0.5, 0.5]\nemission = [1.0, 1.0, 1.0]\n\n\
+                [[objects]]\nmaterial = \"w\"\nshape = \"polygon\"\n\
+                vertices = [[0, 0, 0], [1, 0, 0], [1, 1, 0]]\n";
+    let file = Path::new("units.toml");
+    let scene = Scene::from_toml_str(body, file).expect("no units: metres");
+    assert_eq!(scene.units, Units::Metres);
+    let scene = Scene::from_toml_str(&format!("units = \"cm\"\n{body}"), file).expect("cm");
+    assert_eq!(scene.units, Units::Centimetres);
+    assert_eq!(scene.units.metres(), 0.01);
+    let e = Scene::from_toml_str(&format!("\n\nunits = \"furlong\"\n{body}"), file)
+        .expect_err("unknown unit");
+    assert_eq!(e.line_col.map(|(line, _)| line), Some(3), "{e}");
+    let text = e.to_string();
+    assert!(text.contains("units") && text.contains("furlong"), "{text}");
+}

@@ -10,7 +10,8 @@
 //! viewers such as three.js use for culling and framing; vertices on the seam between two objects
 //! are written once for each) in three vertex accessors:
 //!
-//! - `POSITION`: float VEC3, scene units, with its bounds as the specification requires;
+//! - `POSITION`: float VEC3, in metres (glTF's unit: scene coordinates times
+//!   [`Placement::metres_per_unit`]), with its bounds as the specification requires;
 //! - `COLOR_0`: float VEC3, the vertex radiance L = B/π, chosen by [`VertexColours`]: exposed
 //!   (by a given exposure or the automatic one,
 //!   [`auto_exposure`](crate::render::tonemap::auto_exposure), Reinhard et al. 2002) and
@@ -18,6 +19,10 @@
 //!   linear; viewers apply the sRGB encoding themselves;
 //! - `_RADIOSITY`: float VEC3, radiosity B in W·m⁻² (linear, unscaled) — an application-specific
 //!   attribute (leading underscore), ignored by viewers, for tools that want the physics.
+//!
+//! The scene's cameras follow as perspective cameras on nodes of their own, the first the
+//! default (a glTF camera looks down its local −z with +y up; [`camera_node`]), so Blender and
+//! three.js open the file seen as the scene file sees it.
 //!
 //! The single material is unlit (`KHR_materials_unlit`), white and one-sided, so a viewer shows
 //! `COLOR_0` as it is: the light is already in the colours. Two-sided surfaces carry reversed
@@ -34,6 +39,7 @@ use super::atomic::write_atomic;
 use crate::mesh::LitMesh;
 use crate::render::tonemap::{auto_exposure, exposure_scale};
 use crate::render::Image;
+use crate::scene::Camera;
 
 /// glTF `componentType` of `f32`.
 const FLOAT: u32 = 5126;
@@ -96,6 +102,28 @@ pub fn vertex_colours(lit: &LitMesh, mode: VertexColours) -> Vec<Vec3> {
         .collect()
 }
 
+/// Where an export sits in the world: the scene's length unit and its cameras.
+#[derive(Clone, Copy, Debug)]
+pub struct Placement<'a> {
+    /// Metres per scene unit ([`crate::scene::units::Units::metres`]).
+    pub metres_per_unit: f64,
+    /// Cameras to carry, the first the default.
+    pub cameras: &'a [Camera],
+    /// Width over height of the image the cameras frame.
+    pub aspect: f32,
+}
+
+impl Default for Placement<'_> {
+    /// Metres, no cameras, square images.
+    fn default() -> Self {
+        Self {
+            metres_per_unit: 1.0,
+            cameras: &[],
+            aspect: 1.0,
+        }
+    }
+}
+
 /// Writes `lit` as a binary glTF file at `path` (atomically). `object_names[i]` names the
 /// triangles whose object index is `i`; triangles of unnamed objects are grouped as `object i`.
 ///
@@ -107,13 +135,39 @@ pub fn write_glb(
     lit: &LitMesh,
     object_names: &[String],
     colours: VertexColours,
+    placement: &Placement,
 ) -> io::Result<()> {
-    let bytes = encode(lit, object_names, colours)?;
+    let bytes = encode(lit, object_names, colours, placement)?;
     write_atomic(path, |w| w.write_all(&bytes))
 }
 
+/// The node of a perspective camera at `index` among the file's cameras, in metres: its
+/// rotation turns glTF's camera frame (looking down −z, +y up) onto the camera's view.
+fn camera_node(camera: &Camera, index: usize, metres: f32) -> Value {
+    let forward = (camera.target - camera.eye).normalize_or_zero();
+    let right = forward.cross(camera.up).normalize_or_zero();
+    let up = right.cross(forward);
+    let rotation = if right == Vec3::ZERO || forward == Vec3::ZERO {
+        glam::Quat::IDENTITY
+    } else {
+        glam::Quat::from_mat3(&glam::Mat3::from_cols(right, up, -forward)).normalize()
+    };
+    json!({
+        "name": camera.name,
+        "camera": index,
+        "translation": (camera.eye * metres).to_array(),
+        "rotation": rotation.to_array(),
+    })
+}
+
 /// The whole `.glb` file in memory.
-fn encode(lit: &LitMesh, object_names: &[String], mode: VertexColours) -> io::Result<Vec<u8>> {
+fn encode(
+    lit: &LitMesh,
+    object_names: &[String],
+    mode: VertexColours,
+    placement: &Placement,
+) -> io::Result<Vec<u8>> {
+    let metres = placement.metres_per_unit as f32;
     let invalid = |m: &str| io::Error::new(io::ErrorKind::InvalidInput, m.to_string());
     let n = lit.positions.len();
     if lit.triangles.iter().flatten().any(|&v| v as usize >= n) {
@@ -158,7 +212,10 @@ fn encode(lit: &LitMesh, object_names: &[String], mode: VertexColours) -> io::Re
                 .flat_map(u32::to_le_bytes)
                 .collect();
             let pick = |data: &[Vec3]| -> Vec<Vec3> { used.iter().map(|&v| data[v]).collect() };
-            let positions = pick(&lit.positions);
+            let positions: Vec<Vec3> = pick(&lit.positions)
+                .into_iter()
+                .map(|p| p * metres)
+                .collect();
             let (lo, hi) = positions.iter().fold(
                 (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
                 |(lo, hi), &p| (lo.min(p), hi.max(p)),
@@ -206,6 +263,19 @@ fn encode(lit: &LitMesh, object_names: &[String], mode: VertexColours) -> io::Re
         }
     }
 
+    let mut cameras = Vec::new();
+    for (i, camera) in placement.cameras.iter().enumerate() {
+        cameras.push(json!({
+            "name": camera.name,
+            "type": "perspective",
+            "perspective": {
+                "yfov": camera.fov_y.to_radians(),
+                "aspectRatio": placement.aspect,
+                "znear": 0.01,
+            }
+        }));
+        nodes.push(camera_node(camera, i, metres));
+    }
     let mut doc = json!({
         "asset": { "version": "2.0", "generator": "radiosity" },
         "scene": 0,
@@ -222,6 +292,9 @@ fn encode(lit: &LitMesh, object_names: &[String], mode: VertexColours) -> io::Re
             "extensions": { "KHR_materials_unlit": {} }
         }],
     });
+    if !cameras.is_empty() {
+        doc["cameras"] = Value::Array(cameras);
+    }
     if !meshes.is_empty() {
         doc["meshes"] = Value::Array(meshes);
         doc["accessors"] = Value::Array(accessors);
@@ -321,8 +394,15 @@ mod tests {
     #[test]
     fn framing_accessors_and_object_meshes_are_consistent() {
         let names = vec!["floor".to_string(), "wall".to_string()];
-        let (doc, bin) =
-            parse(&encode(&square(), &names, VertexColours::AutoExposure).expect("encode"));
+        let (doc, bin) = parse(
+            &encode(
+                &square(),
+                &names,
+                VertexColours::AutoExposure,
+                &Placement::default(),
+            )
+            .expect("encode"),
+        );
         assert_eq!(
             doc["buffers"][0]["byteLength"].as_u64(),
             Some(bin.len() as u64)
@@ -372,8 +452,15 @@ mod tests {
 
     #[test]
     fn empty_mesh_is_a_valid_empty_scene() {
-        let (doc, bin) =
-            parse(&encode(&LitMesh::default(), &[], VertexColours::AutoExposure).expect("encode"));
+        let (doc, bin) = parse(
+            &encode(
+                &LitMesh::default(),
+                &[],
+                VertexColours::AutoExposure,
+                &Placement::default(),
+            )
+            .expect("encode"),
+        );
         assert!(bin.is_empty());
         assert_eq!(doc["nodes"], json!([]));
         assert!(doc.get("accessors").is_none());
@@ -384,7 +471,7 @@ mod tests {
         let mut lit = square();
         lit.triangles[0][1] = 7;
         assert_eq!(
-            encode(&lit, &[], VertexColours::Linear)
+            encode(&lit, &[], VertexColours::Linear, &Placement::default())
                 .map_err(|e| e.kind())
                 .err(),
             Some(io::ErrorKind::InvalidInput)

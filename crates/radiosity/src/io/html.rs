@@ -38,7 +38,8 @@
 //! html::write_solved(&dir.join("doc-cornell.html"), &solved, Some(stops))?;
 //! let names: Vec<String> = solved.scene.objects.iter().map(|o| o.name.clone()).collect();
 //! let glb = dir.join("doc-cornell.glb");
-//! gltf::write_glb(&glb, &solved.lit, &names, gltf::VertexColours::Exposure(stops))?;
+//! let placement = gltf::Placement { cameras: &solved.scene.cameras, ..Default::default() };
+//! gltf::write_glb(&glb, &solved.lit, &names, gltf::VertexColours::Exposure(stops), &placement)?;
 //! assert_eq!(radiosity::Scene::load(&glb)?.polygons.len(), solved.lit.triangles.len());
 //! # Ok(())
 //! # }

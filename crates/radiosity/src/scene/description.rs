@@ -56,6 +56,8 @@ pub struct SceneDesc {
     pub cameras: Vec<CameraDesc>,
     /// `[render]`.
     pub render: RenderDesc,
+    /// `units`, the length unit (metres when absent).
+    pub units: Option<Field<crate::scene::units::Units>>,
     /// `[materials.NAME]`, in file order.
     pub materials: Vec<MaterialDesc>,
     /// `[[objects]]`, in file order.

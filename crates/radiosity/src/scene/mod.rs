@@ -14,6 +14,7 @@ pub mod error;
 pub mod frame;
 pub mod near_emitters;
 pub mod parse;
+pub mod units;
 pub mod validate;
 
 use glam::Vec3;
@@ -37,6 +38,8 @@ pub struct Scene {
     pub cameras: Vec<Camera>,
     /// Image size defaults.
     pub render: RenderDefaults,
+    /// The length unit of the coordinates (`units`; metres by default).
+    pub units: units::Units,
     /// Problems repaired while loading (e.g. a missing MTL file), one line each.
     pub warnings: Vec<String>,
 }

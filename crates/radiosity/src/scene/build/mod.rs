@@ -199,6 +199,10 @@ pub fn build(desc: &SceneDesc) -> Result<Scene, SceneError> {
             .as_ref()
             .map_or(defaults.height, |h| h.value),
     };
+    b.scene.units = desc
+        .units
+        .as_ref()
+        .map_or_else(Default::default, |u| u.value);
     b.finish(cameras, render)
 }
 

@@ -20,6 +20,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use super::description::{CameraDesc, Field, MaterialDesc, RenderDesc, SceneDesc};
+use super::units::UnknownUnit;
 use super::SceneError;
 use crate::Rgb;
 use shape::parse_object;
@@ -51,11 +52,26 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc, SceneError> {
         SceneError::at(src.loc(at), e.message().to_string())
     })?;
     let mut top = Table::new(&src, String::new(), root)?;
-    top.check_keys(&["camera", "cameras", "render", "materials", "objects"])?;
+    top.check_keys(&[
+        "units",
+        "camera",
+        "cameras",
+        "render",
+        "materials",
+        "objects",
+    ])?;
     let mut desc = SceneDesc {
         file: file.to_path_buf(),
         ..SceneDesc::default()
     };
+    if let Some((k, v)) = top.take("units") {
+        let name = src.string("units", v)?;
+        let units = name
+            .value
+            .parse()
+            .map_err(|e: UnknownUnit| src.error(&k.span, "units", e.to_string()))?;
+        desc.units = Some(name.map(|_| units));
+    }
     match (top.take("camera"), top.take("cameras")) {
         (Some(_), Some((k, _))) => {
             return Err(src.error(&k.span, "cameras", "use either [camera] or [[cameras]]"))
