@@ -342,6 +342,10 @@ pub struct CommonArgs {
     /// Seed of the random sampling (ray-cast form factors).
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Leave a scene without emitters unlit (black) instead of lighting it by the default sky:
+    /// a uniform white enclosure of radiance 1 W·m⁻²·sr⁻¹ around its bounds
+    #[arg(long)]
+    pub no_default_light: bool,
     /// Save the solver state to this file periodically and when interrupted (Jacobi,
     /// Gauss-Seidel and progressive solvers).
     #[arg(long, value_name = "PATH")]

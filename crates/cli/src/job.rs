@@ -21,7 +21,7 @@ use radiosity::pipeline::{self, Solved};
 use radiosity::plot::write_convergence_svg;
 use radiosity::render::{tonemap, RasterSettings};
 use radiosity::scene::validate::{camera_problem, CameraProblem};
-use radiosity::scene::Camera;
+use radiosity::scene::{sky, Camera};
 use radiosity::solve::checkpoint::{Checkpoint, Checkpointing, Control};
 use radiosity::stats::Timings;
 use radiosity::Scene;
@@ -159,7 +159,26 @@ fn render_job(args: &RenderArgs) -> Result<()> {
 /// Loads the scene and prints its warnings; returns it with the seconds it took.
 pub(crate) fn load(arg: &str, common: &CommonArgs) -> Result<(Scene, f64)> {
     let start = Instant::now();
-    let scene = Scene::resolve(arg)?;
+    let mut scene = Scene::resolve(arg)?;
+    if !common.no_default_light && scene.add_default_sky() {
+        let note = format!(
+            "no material emits light: the scene is lit by the default sky, a uniform enclosure of \
+             radiance {} W·m⁻²·sr⁻¹ (object `{}`; --no-default-light turns it off)",
+            sky::RADIANCE,
+            sky::NAME
+        );
+        match scene
+            .warnings
+            .iter_mut()
+            .find(|w| w.ends_with(sky::NO_LIGHT))
+        {
+            Some(w) => {
+                w.truncate(w.len() - sky::NO_LIGHT.len());
+                w.push_str(&note);
+            }
+            None => scene.warnings.push(note),
+        }
+    }
     for warning in &scene.warnings {
         say(common, &format!("warning: {warning}"));
     }

@@ -559,3 +559,53 @@ fn local_mode_renders_without_a_radiosity_solve() {
     );
     fs::remove_dir_all(&dir).expect("cleanup");
 }
+
+#[test]
+fn a_scene_without_light_is_lit_by_the_default_sky() {
+    // A bare OBJ without `Ke`: a floor under a seat. Lit by the default sky (radiance 1), a
+    // surface that sees only the sky has B = ρπ exactly: the floor's back (default ρ = 0.5)
+    // faces nothing but the sky below it. --no-default-light leaves it black.
+    let dir = scratch("sky");
+    let obj = "o seat\nv -0.5 0.5 -0.5\nv 0.5 0.5 -0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n\
+               f 1 4 3 2\no floor\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nf 5 8 7 6\n";
+    fs::write(dir.join("model.obj"), obj).expect("write model");
+    let solve = |extra: &[&str]| {
+        let args = [&["solve", "model.obj", "--elements", "300"][..], extra].concat();
+        let out = run(&dir, &args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        out
+    };
+    let out = solve(&["--stats", "sky.json"]);
+    let said = stderr(&out) + &String::from_utf8_lossy(&out.stdout);
+    assert_eq!(said.matches("default sky").count(), 1, "{said}");
+    assert!(!said.contains("will be black"), "{said}");
+    let stats = read_json(&dir.join("sky.json"));
+    let object = |name: &str| {
+        stats["objects"]
+            .as_array()
+            .expect("objects")
+            .iter()
+            .find(|o| o["name"] == name)
+            .cloned()
+    };
+    let back = object("floor").expect("floor")["back"][1]
+        .as_f64()
+        .expect("back radiosity");
+    let expected = 0.5 * std::f64::consts::PI;
+    assert!(
+        (back - expected).abs() < 0.005 * expected,
+        "{back} vs {expected}"
+    );
+    assert!(object("default_sky").is_some());
+    let out = solve(&["--stats", "dark.json", "--no-default-light"]);
+    assert!(stderr(&out).contains("will be black"), "{}", stderr(&out));
+    let dark = read_json(&dir.join("dark.json"));
+    let names: Vec<&str> = dark["objects"]
+        .as_array()
+        .expect("objects")
+        .iter()
+        .map(|o| o["name"].as_str().expect("name"))
+        .collect();
+    assert_eq!(names, ["seat", "floor"]);
+    fs::remove_dir_all(&dir).expect("cleanup");
+}

@@ -14,6 +14,7 @@ pub mod error;
 pub mod frame;
 pub mod near_emitters;
 pub mod parse;
+pub mod sky;
 pub mod units;
 pub mod validate;
 

@@ -505,10 +505,9 @@ impl Builder {
             .iter()
             .any(|p| materials[p.material].is_emitter())
         {
-            self.scene.warnings.push(format!(
-                "{}: no material emits light; the scene will be black",
-                self.file.display()
-            ));
+            self.scene
+                .warnings
+                .push(format!("{}: {}", self.file.display(), super::sky::NO_LIGHT));
         }
         let near = near_emitters::warnings(&self.scene, &self.file.display().to_string());
         self.scene.warnings.extend(near);
