@@ -158,6 +158,12 @@ fn edge_points(
     }
     let m = (a + b) * 0.5;
     if let Some(v) = lookup(m) {
+        // An edge too short for the vertex grid (a degenerate face's) has its midpoint on an
+        // end: without this check it recursed to full depth, 2^16 copies of one vertex per
+        // edge, and a fan of as many triangles (the `solids` scene: 40 M triangles, 0.9 GB).
+        if Some(v) == lookup(a) || Some(v) == lookup(b) {
+            return;
+        }
         edge_points(a, m, depth - 1, lookup, out);
         out.push(v);
         edge_points(m, b, depth - 1, lookup, out);
@@ -244,6 +250,24 @@ mod tests {
             }],
             ..Scene::default()
         }
+    }
+
+    #[test]
+    fn an_edge_shorter_than_the_vertex_grid_gets_no_points() {
+        // Every point is "a vertex" here; an edge of zero length would otherwise recurse to
+        // full depth (2^16 copies of its end).
+        let key = VertexKey { inverse_cell: 1e6 };
+        let lookup = |p: Vec3| {
+            let k = key.of(p);
+            Some((k.x + 7 * k.y + 13 * k.z) as u32)
+        };
+        let mut out = Vec::new();
+        let a = Vec3::new(0.25, 0.5, 0.0);
+        edge_points(a, a, MAX_EDGE_DEPTH, &lookup, &mut out);
+        assert!(out.is_empty(), "{}", out.len());
+        // A real edge still gets its midpoints, in order, down to the grid.
+        edge_points(Vec3::ZERO, Vec3::X, 2, &lookup, &mut out);
+        assert_eq!(out.len(), 3);
     }
 
     /// Every interior edge is shared by exactly two triangles, boundary edges by one.
