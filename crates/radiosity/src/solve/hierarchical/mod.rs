@@ -191,11 +191,23 @@ pub fn run(
                 cluster_b: &cluster_b,
             };
             let view = View::new(mesh, &clusters, bvh);
+            let stop = || control.stopped();
             let round = if first {
-                refine::start(&view, &oracle)
+                refine::start(&view, &oracle, &stop)
             } else {
-                refine::round(&view, &oracle, &links, if display { &force } else { &[] })
+                refine::round(
+                    &view,
+                    &oracle,
+                    &links,
+                    if display { &force } else { &[] },
+                    &stop,
+                )
             };
+            if control.stopped() {
+                // The round was cut short: keep the links and mesh of the last whole one.
+                out.interrupted = true;
+                break 'passes;
+            }
             first = false;
             refined += round.refined;
             peak = peak.max(memory(mesh, &clusters, links.len() + round.links.len()));

@@ -109,14 +109,21 @@ impl Round {
 }
 
 /// One refinement round over `links`. `force` lists receivers (sorted) whose links must be
-/// split on the receiver side whatever they move (the display criterion).
+/// split on the receiver side whatever they move (the display criterion). Once `stop` says so
+/// the round skips the work left: the caller must then discard it.
 #[must_use]
-pub fn round(view: &View, oracle: &Oracle, links: &[Link], force: &[u32]) -> Round {
+pub fn round(
+    view: &View,
+    oracle: &Oracle,
+    links: &[Link],
+    force: &[u32],
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Round {
     let mut out = links
         .par_iter()
         .fold(Round::default, |mut acc, l| {
             let forced = force.binary_search(&l.receiver).is_ok();
-            Refiner { view, oracle }.link(*l, forced, &mut acc);
+            Refiner { view, oracle, stop }.link(*l, forced, &mut acc);
             acc
         })
         .reduce(Round::default, Round::append);
@@ -125,12 +132,13 @@ pub fn round(view: &View, oracle: &Oracle, links: &[Link], force: &[u32]) -> Rou
     out
 }
 
-/// The first links: the root cluster with itself, refined as far as the oracle asks.
+/// The first links: the root cluster with itself, refined as far as the oracle asks (or until
+/// `stop` says so, as for [`round`]).
 #[must_use]
-pub fn start(view: &View, oracle: &Oracle) -> Round {
+pub fn start(view: &View, oracle: &Oracle, stop: &(dyn Fn() -> bool + Sync)) -> Round {
     let mut out = Round::default();
     if !view.clusters.nodes.is_empty() {
-        Refiner { view, oracle }.pair(CLUSTER, CLUSTER, false, &mut out);
+        Refiner { view, oracle, stop }.pair(CLUSTER, CLUSTER, false, &mut out);
     }
     out.splits.sort_unstable();
     out.splits.dedup();
@@ -141,6 +149,8 @@ pub fn start(view: &View, oracle: &Oracle) -> Round {
 struct Refiner<'v, 'a> {
     view: &'v View<'a>,
     oracle: &'v Oracle<'a>,
+    /// Whether to give up (Ctrl-C): checked before each link and pair.
+    stop: &'v (dyn Fn() -> bool + Sync),
 }
 
 /// Which side of a link to split.
@@ -153,6 +163,9 @@ enum Side {
 impl Refiner<'_, '_> {
     /// Keeps `l`, or replaces it by finer links, or keeps it pending a leaf split.
     fn link(&self, l: Link, forced: bool, acc: &mut Round) {
+        if (self.stop)() {
+            return;
+        }
         let can = |h| Oracle::splittable(self.view.mesh, self.oracle.min_area, h);
         let side = if (forced || self.oracle.pushes_unevenly(&l)) && can(l.receiver) {
             Some(Side::Receiver)
@@ -228,6 +241,9 @@ impl Refiner<'_, '_> {
 
     /// Estimates a new pair and refines it as far as it needs.
     fn pair(&self, r: u32, s: u32, clear: bool, acc: &mut Round) {
+        if (self.stop)() {
+            return;
+        }
         if r == s {
             // A cluster with itself: every pair of its children (a face never lights itself).
             if r & CLUSTER == 0 {
