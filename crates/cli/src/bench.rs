@@ -1,7 +1,7 @@
 //! `radiosity bench`: ray throughput of the BVH on incoherent rays
 //! (see [`radiosity::accel::bench`]), on the built-in Cornell box and on a large sphere field.
 
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 
 use anyhow::Context;
 use radiosity::accel::{bench, Bvh};
@@ -9,7 +9,10 @@ use radiosity::io::atomic::write_atomic;
 use radiosity::mesh::{Mesh, Subdivision};
 use radiosity::scene::builtin;
 
+use radiosity::progress::Progress;
+
 use crate::args::BenchArgs;
+use crate::bars::Bars;
 
 /// Measures both scenes for each thread count, prints one line per measurement, and writes the
 /// JSON reports and the workloads if asked.
@@ -37,7 +40,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     ];
     let mut all = Vec::new();
     let mut out = std::io::stdout().lock();
+    let bars = Bars::new(std::io::stderr().is_terminal());
     for (name, triangles) in &scenes {
+        // A spinner while the scene is built and measured (stderr, on a terminal only).
+        bars.start(&format!("bench {name}"), 0);
         let bvh = Bvh::build(triangles);
         let rays = bench::incoherent_rays(triangles, &bvh, args.rays as usize, args.seed);
         drop(bvh);
@@ -47,6 +53,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
                 .with_context(|| format!("{}: cannot write", path.display()))?;
         }
         let reports = bench::run(triangles, &rays, &threads).context("cannot start threads")?;
+        bars.finish();
         for r in &reports {
             writeln!(
                 out,

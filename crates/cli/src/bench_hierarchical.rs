@@ -15,17 +15,18 @@
 //! (`VmHWM`; absent off Linux). The suite prints a table and fits the growth exponent k of
 //! time ∝ elements^k and links ∝ elements^k by least squares on the logarithms, per series.
 
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 use std::process::Command;
 
 use anyhow::{bail, Context};
 use radiosity::pipeline::{self, Settings};
-use radiosity::progress::Silent;
+use radiosity::progress::{Progress, Silent};
 use radiosity::scene::builtin;
 use radiosity::{solve, Scene};
 use serde::{Deserialize, Serialize};
 
 use crate::args::BenchArgs;
+use crate::bars::Bars;
 
 /// The Cornell box's ε, coarse to fine.
 const EPSILONS: [f64; 4] = [1e-3, 1e-4, 3e-5, 1e-5];
@@ -86,6 +87,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         "peak MB",
         "hier. MB"
     )?;
+    let bars = Bars::new(std::io::stderr().is_terminal());
+    bars.start("bench cases", cases.len() as u64);
     for k in 0..cases.len() {
         let output = Command::new(&exe)
             .args(["bench", "--suite", "hierarchical", "--largest"])
@@ -118,7 +121,9 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             mb(f.hierarchy_bytes),
         )?;
         all.push(f);
+        bars.advance(1);
     }
+    bars.finish();
     let mut fits = Vec::new();
     for series in ["cornell", "field"] {
         let points: Vec<&Figures> = all.iter().filter(|f| f.series == series).collect();
