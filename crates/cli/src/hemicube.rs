@@ -133,10 +133,7 @@ fn item_colour(item: u32) -> Rgb {
     if item == NOTHING {
         return Rgb::ZERO;
     }
-    let mut z = u64::from(item).wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^= z >> 31;
+    let z = radiosity::hash::mix(u64::from(item));
     let channel = |k: u32| 0.15 + 0.85 * ((z >> (16 * k)) & 0xFFFF) as f64 / 65535.0;
     let srgb = Rgb::new(channel(0), channel(1), channel(2));
     // The PNG encoder applies the sRGB curve: undo it so the hashed colours come out as drawn.

@@ -22,6 +22,7 @@
 pub mod accel;
 pub mod color;
 pub mod formfactor;
+pub mod hash;
 pub mod io;
 pub mod mesh;
 pub mod pipeline;

@@ -19,6 +19,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::{Bvh, Ray};
+use crate::hash::SplitMix;
 
 /// Far end of every benchmark ray (Embree's wrapper is given the same).
 pub const T_MAX: f32 = 1e30;
@@ -27,27 +28,14 @@ const REPETITIONS: usize = 3;
 /// Rays per rayon task.
 const CHUNK: usize = 4096;
 
-/// A deterministic generator (splitmix64, Steele et al. 2014).
-struct SplitMix(u64);
+/// Uniform in [0, 1) from the next 24 bits of `rng`.
+fn uniform(rng: &mut SplitMix) -> f32 {
+    (rng.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
+}
 
-impl SplitMix {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn uniform(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
-    }
-
-    /// Uniform in 0..n (n > 0).
-    fn below(&mut self, n: usize) -> usize {
-        (((self.next_u64() >> 32) * n as u64) >> 32) as usize
-    }
+/// Uniform in 0..n (n > 0).
+fn below(rng: &mut SplitMix, n: usize) -> usize {
+    (((rng.next_u64() >> 32) * n as u64) >> 32) as usize
 }
 
 /// Triangles of a polygon mesh, fanned from each face's first vertex; `flip` reverses them.
@@ -76,7 +64,7 @@ pub fn sphere_field_triangles(target: usize) -> Vec<[Vec3; 3]> {
     fan(&model::primitives::cuboid(lo, hi), true, &mut tris);
     let mut rng = SplitMix(0x5EED);
     while tris.len() + 160 < target {
-        let s = rng.uniform();
+        let s = uniform(&mut rng);
         let radius = 0.15 + 1.05 * s * s;
         // Finer spheres where they are larger, and never much past the target.
         let mut subdivisions = 2 + (radius > 0.4) as u32 + (radius > 0.8) as u32;
@@ -86,7 +74,7 @@ pub fn sphere_field_triangles(target: usize) -> Vec<[Vec3; 3]> {
         let span = hi - lo - Vec3::splat(2.0 * radius);
         let centre = lo
             + Vec3::splat(radius)
-            + span * Vec3::new(rng.uniform(), rng.uniform(), rng.uniform());
+            + span * Vec3::new(uniform(&mut rng), uniform(&mut rng), uniform(&mut rng));
         fan(
             &model::primitives::icosphere(centre, radius, subdivisions),
             false,
@@ -107,7 +95,7 @@ pub fn incoherent_rays(triangles: &[[Vec3; 3]], bvh: &Bvh, count: usize, seed: u
     let mut rays = Vec::with_capacity(count);
     let mut misses = 0usize;
     while rays.len() < count && !triangles.is_empty() {
-        let [a, b, c] = triangles[rng.below(triangles.len())];
+        let [a, b, c] = triangles[below(&mut rng, triangles.len())];
         let Some(n) = (b - a).cross(c - a).try_normalize() else {
             // Give up after many zero-area draws in a row.
             misses += 1;
@@ -118,14 +106,14 @@ pub fn incoherent_rays(triangles: &[[Vec3; 3]], bvh: &Bvh, count: usize, seed: u
         };
         misses = 0;
         // Uniform point of the triangle (fold the unit square onto it).
-        let (mut s, mut t) = (rng.uniform(), rng.uniform());
+        let (mut s, mut t) = (uniform(&mut rng), uniform(&mut rng));
         if s + t > 1.0 {
             (s, t) = (1.0 - s, 1.0 - t);
         }
         let origin = a + s * (b - a) + t * (c - a) + lift * n;
         // Cosine-distributed direction around n (Malley's method).
-        let r = rng.uniform().sqrt();
-        let phi = std::f32::consts::TAU * rng.uniform();
+        let r = uniform(&mut rng).sqrt();
+        let phi = std::f32::consts::TAU * uniform(&mut rng);
         let (x, y) = (r * phi.cos(), r * phi.sin());
         let z = (1.0 - r * r).max(0.0).sqrt();
         let (t1, t2) = n.any_orthonormal_pair();

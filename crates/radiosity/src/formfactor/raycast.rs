@@ -30,6 +30,7 @@
 
 use super::{column_with, pair_unoccluded, row_with, FormFactors, Geometry, Receiver};
 use crate::accel::Ray;
+use crate::hash::mix;
 use crate::mesh::Face;
 
 /// Rays of the adaptive pilot (one per quadrant).
@@ -172,14 +173,6 @@ impl FormFactors for RayCast {
             self.pair(g, r, e, source, lift)
         });
     }
-}
-
-/// SplitMix64's finaliser (Steele, Lea & Flood 2014): a well-mixed 64-bit hash.
-fn mix(z: u64) -> u64 {
-    let z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    let z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
 
 /// Greatest common divisor.

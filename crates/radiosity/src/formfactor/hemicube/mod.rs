@@ -66,6 +66,7 @@ use rayon::prelude::*;
 use self::raster::{rasterize, FaceBuffer, Layout, Polygon, FACES, NOTHING};
 use super::analytic::point_to_polygon;
 use super::{FormFactors, Geometry, Receiver};
+use crate::hash::mix;
 use crate::mesh::Face;
 
 /// Cells along a full edge when the user asks for nothing else (see `docs/hemicube.md` for the
@@ -468,12 +469,4 @@ impl FormFactors for Hemicube {
             }
         });
     }
-}
-
-/// SplitMix64's finaliser (Steele, Lea & Flood 2014).
-fn mix(z: u64) -> u64 {
-    let z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    let z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }

@@ -16,6 +16,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use glam::Vec3;
 use rayon::prelude::*;
 
+use crate::hash::mix;
 use crate::progress::{Progress, Silent};
 use crate::render::Image;
 use crate::Rgb;
@@ -45,15 +46,6 @@ impl Watch<'_> {
 
 /// Side of the square tiles images are rendered in parallel over.
 const TILE: u32 = 16;
-
-/// SplitMix64's finaliser: a well-mixed 64-bit hash of `x`.
-#[must_use]
-fn mix(mut x: u64) -> u64 {
-    x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    x ^ (x >> 31)
-}
 
 /// A stream of random numbers in [0, 1) keyed by its position in the image (a pixel and a
 /// sample of it); each draw hashes the key with a running counter.

@@ -38,6 +38,7 @@ use super::cluster::Clusters;
 use crate::accel::{Bvh, Ray};
 use crate::formfactor::analytic::{point_to_polygon, solid_angle};
 use crate::formfactor::{facing, Receiver};
+use crate::hash::mix;
 use crate::mesh::Mesh;
 
 /// Top bit of a handle: the rest is a cluster index (else a node index into [`Mesh::nodes`]).
@@ -522,12 +523,4 @@ fn touching(a: &crate::mesh::Face, b: &crate::mesh::Face, na: Vec3, nb: Vec3) ->
 /// Sixteen bits of `bits` as a jitter in (0, 1).
 fn jitter(bits: u64, i: u32) -> f32 {
     (((bits >> (16 * i)) & 0xFFFF) as f32 + 0.5) / 65536.0
-}
-
-/// SplitMix64's finaliser (Steele, Lea & Flood 2014).
-fn mix(z: u64) -> u64 {
-    let z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    let z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
