@@ -138,6 +138,6 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         write_image(&args.output, &image, exposure)?;
         job::say(common, &format!("wrote {}", args.output.display()));
         let render_seconds = render_start.elapsed().as_secs_f64();
-        job::finish(&solved, common, start, load, render_seconds)
+        job::finish(&solved, common, None, start, load, render_seconds)
     })
 }

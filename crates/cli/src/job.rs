@@ -72,7 +72,7 @@ pub fn solve(args: &SolveArgs) -> Result<()> {
         let start = Instant::now();
         let (scene, load) = load(&args.scene, &args.common)?;
         let solved = run_solve(scene, &args.common)?;
-        finish(&solved, &args.common, start, load, 0.0)
+        finish(&solved, &args.common, None, start, load, 0.0)
     })
 }
 
@@ -153,7 +153,15 @@ fn render_job(args: &RenderArgs) -> Result<()> {
         }
     }
     let render_seconds = render_start.elapsed().as_secs_f64();
-    finish(&solved, common, start, load, render_seconds)
+    let aspect = raster.width as f32 / raster.height.max(1) as f32;
+    finish(
+        &solved,
+        common,
+        Some((&camera, aspect)),
+        start,
+        load,
+        render_seconds,
+    )
 }
 
 /// Loads the scene and prints its warnings; returns it with the seconds it took.
@@ -325,14 +333,43 @@ fn control(common: &CommonArgs) -> Result<Control> {
     })
 }
 
-/// Writes the export and the stats of a finished job.
+/// The camera a render looked through and its image's width over height: the first camera of
+/// its `.glb` exports.
+pub(crate) type View<'a> = (&'a Camera, f32);
+
+/// Writes the export and the stats of a finished job; `view` is the render's camera, if any
+/// (the exports then carry it first, before the scene's own).
 pub(crate) fn finish(
     solved: &Solved,
     common: &CommonArgs,
+    view: Option<View>,
     start: Instant,
     load_seconds: f64,
     render_seconds: f64,
 ) -> Result<()> {
+    let scene_cameras = &solved.scene.cameras;
+    let first = view.map(|(camera, _)| {
+        let mut camera = camera.clone();
+        if !scene_cameras.contains(&camera) {
+            // Moved by --eye/--target/--up/--fov: not the scene's camera of that name.
+            camera.name = format!("{} (command line)", camera.name);
+        }
+        camera
+    });
+    let cameras: Vec<Camera> = first
+        .iter()
+        .cloned()
+        .chain(
+            scene_cameras
+                .iter()
+                .filter(|c| Some(*c) != first.as_ref())
+                .cloned(),
+        )
+        .collect();
+    let aspect = view.map_or_else(
+        || solved.scene.render.width as f32 / solved.scene.render.height.max(1) as f32,
+        |(_, aspect)| aspect,
+    );
     for path in common
         .export
         .iter()
@@ -353,9 +390,8 @@ pub(crate) fn finish(
                 glb_colours(colours),
                 &Placement {
                     metres_per_unit: solved.scene.units.metres(),
-                    cameras: &solved.scene.cameras,
-                    aspect: solved.scene.render.width as f32
-                        / solved.scene.render.height.max(1) as f32,
+                    cameras: &cameras,
+                    aspect,
                 },
             ),
             "html" => html::write_solved(path, solved, html_exposure(colours)),

@@ -609,3 +609,55 @@ fn a_scene_without_light_is_lit_by_the_default_sky() {
     assert_eq!(names, ["seat", "floor"]);
     fs::remove_dir_all(&dir).expect("cleanup");
 }
+
+#[test]
+fn a_render_exports_its_own_camera_first() {
+    // The camera the picture was taken with (moved by --eye) leads the .glb's cameras, with
+    // the picture's aspect ratio; the scene's own camera follows.
+    let dir = scratch("glb-camera");
+    fs::write(dir.join("room.toml"), scene_text("")).expect("write scene");
+    let out = run(
+        &dir,
+        &[
+            "render",
+            "room.toml",
+            "--elements",
+            "24",
+            "--width",
+            "32",
+            "--height",
+            "16",
+            "--eye",
+            "0.25,0.5,-2",
+            "-o",
+            "a.png",
+            "--export",
+            "a.glb",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let glb = fs::read(dir.join("a.glb")).expect("glb");
+    let length = u32::from_le_bytes(glb[12..16].try_into().expect("4 bytes")) as usize;
+    let json: serde_json::Value = serde_json::from_slice(&glb[20..20 + length]).expect("json");
+    let cameras = json["cameras"].as_array().expect("cameras");
+    assert_eq!(cameras.len(), 2, "{json}");
+    assert_eq!(cameras[0]["perspective"]["aspectRatio"], 2.0);
+    let node = json["nodes"]
+        .as_array()
+        .expect("nodes")
+        .iter()
+        .find(|n| n["camera"] == 0)
+        .expect("a node of camera 0");
+    let t: Vec<f64> = node["translation"]
+        .as_array()
+        .expect("translation")
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect();
+    assert!((t[0] - 0.25).abs() < 1e-6 && (t[1] - 0.5).abs() < 1e-6 && (t[2] + 2.0).abs() < 1e-6);
+    assert!(cameras[0]["name"]
+        .as_str()
+        .expect("name")
+        .ends_with("(command line)"));
+    fs::remove_dir_all(&dir).expect("cleanup");
+}
