@@ -12,6 +12,7 @@
 //! That lets a coarse node act as a *source* whose radiosity is the area-weighted mean of its
 //! leaves ([`Mesh::sources`]).
 
+mod budget;
 mod contact;
 pub mod display;
 mod face;
@@ -19,6 +20,7 @@ pub mod lit_mesh;
 mod near_field;
 mod patch;
 mod shadow;
+mod sources;
 mod triangulate;
 
 use std::ops::Range;
@@ -34,6 +36,7 @@ pub use shadow::SHADOW_LEVELS;
 
 use crate::accel::{Aabb, Bvh};
 use crate::Scene;
+pub use budget::DARK_EMITTER_COARSENING;
 
 /// How finely to subdivide patches into elements.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -97,35 +100,26 @@ impl Mesh {
     #[must_use]
     pub fn plan(scene: &Scene, subdivision: Subdivision) -> (usize, f64) {
         let patches = patch::patches(scene);
-        let areas = root_areas(&patches);
-        let target = target_for(&areas, subdivision);
-        let dark: Vec<f64> = patches
-            .iter()
-            .filter(|(p, _)| dark_emitter(p))
-            .flat_map(|(_, roots)| roots.iter().map(Face::area))
-            .collect();
+        let targets = budget::patch_targets(&patches, subdivision);
         let roots = patches.iter().map(|(_, roots)| roots.len()).sum();
-        let dark_count = if dark.len() == roots {
-            0.0
-        } else {
-            element_count(&dark, target * DARK_EMITTER_COARSENING)
-        };
-        (roots, element_count(&areas, target) + dark_count)
+        let elements = patches
+            .iter()
+            .zip(targets)
+            .map(|((_, roots), target)| {
+                let areas: Vec<f64> = roots.iter().map(Face::area).collect();
+                budget::element_count(&areas, target)
+            })
+            .sum();
+        (roots, elements)
     }
 
     /// Splits every polygon of `scene` into patches and subdivides them uniformly.
     #[must_use]
     pub fn build(scene: &Scene, subdivision: Subdivision) -> Self {
         let patches = patch::patches(scene);
-        let target = target_for(&root_areas(&patches), subdivision);
-        let coarsen = patches.iter().any(|(p, _)| !dark_emitter(p));
+        let targets = budget::patch_targets(&patches, subdivision);
         let mut mesh = Mesh::default();
-        for (index, (patch, roots)) in patches.into_iter().enumerate() {
-            let target = if coarsen && dark_emitter(&patch) {
-                target * DARK_EMITTER_COARSENING
-            } else {
-                target
-            };
+        for (index, ((patch, roots), target)) in patches.into_iter().zip(targets).enumerate() {
             let first = mesh.nodes.len() as u32;
             mesh.nodes.extend(roots.iter().map(|&face| Node {
                 face,
@@ -137,7 +131,7 @@ impl Mesh {
             }));
             mesh.roots.push(first..mesh.nodes.len() as u32);
             for r in first..mesh.nodes.len() as u32 {
-                let level = level_for(mesh.nodes[r as usize].face.area(), target);
+                let level = budget::level_for(mesh.nodes[r as usize].face.area(), target);
                 mesh.grow(r, level);
             }
             mesh.patches.push(patch);
@@ -285,98 +279,6 @@ impl Mesh {
         self.patches.iter().map(|p| p.area).sum()
     }
 
-    /// A cut through the quadtrees used as light sources: at most `max_sources` nodes (or the
-    /// root faces, if there are more of those), each as
-    /// small as that allows — for each root, the shallowest nodes whose area is at most a
-    /// threshold, with the threshold found by bisection (or the leaves, if they are larger).
-    ///
-    /// Receivers are always the elements; sources may be coarser, which is the substructuring
-    /// of Cohen et al. 1986: a source shoots the area-weighted mean radiosity of its elements.
-    /// With `max_sources ≥ element_count()` the sources are exactly the elements, in order.
-    ///
-    /// A node whose leaves are not all at one level was refined locally, along a contact line
-    /// (see [`Mesh::refine_contacts`]): it is always opened, since its mean radiosity mixes
-    /// the lit and the dark side of the contact and would shine the lit side's light into the
-    /// dark one (a two-sided block's inside came out 5 % as bright as its outside that way).
-    /// If that takes more than `max_sources`, the count may grow up to `limit`; beyond it,
-    /// only the mixed nodes above the deepest level that fits are opened, and sources straddle
-    /// the finer parts of contact lines rather than overflow the limit (measured on
-    /// `scenes/suite/bare-obj-many`, whose 4 926 root faces leave 8 192 sources too few: the
-    /// inside of a block standing on the floor, dark in Mitsuba 3, was lit by straddling floor
-    /// sources, 1.5 % of the block's radiosity).
-    #[must_use]
-    pub fn sources(&self, max_sources: usize, limit: usize) -> Vec<u32> {
-        if max_sources >= self.element_count() {
-            return self.elements.clone();
-        }
-        let mut mixed: Vec<bool> = self
-            .nodes
-            .iter()
-            .map(|node| {
-                let mut levels = self.elements
-                    [node.elements.start as usize..node.elements.end as usize]
-                    .iter()
-                    .map(|&e| self.nodes[e as usize].level);
-                let first = levels.next();
-                levels.any(|l| Some(l) != first)
-            })
-            .collect();
-        // At fine subdivisions the contact lines alone may hold more leaves than the budget:
-        // then the budget grows to the limit, and past that only the mixed nodes above some
-        // depth are opened, the deepest depth that fits: the large nodes, whose means mix the
-        // most light across a line, go first. (Giving up on all of them at once let sources of
-        // the wall behind an emitter facing it, 1 mm away, shine the light trapped there into
-        // the room: +106 % at 16 000 elements, against +2.6 % at 4 000.)
-        let cap = max_sources.max(limit);
-        let total = self.total_area();
-        let mut needed = self.cut(total, &mixed).len();
-        if needed > cap {
-            let all = std::mem::take(&mut mixed);
-            for depth in (0..=MAX_LEVEL).rev() {
-                mixed = all
-                    .iter()
-                    .zip(&self.nodes)
-                    .map(|(&m, node)| m && node.level < depth)
-                    .collect();
-                needed = self.cut(total, &mixed).len();
-                if needed <= cap {
-                    break;
-                }
-            }
-        }
-        let max_sources = max_sources.max(needed.min(cap));
-        // The count falls as the threshold grows; find the smallest threshold that fits.
-        let (mut lo, mut hi) = (0.0, self.total_area());
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            if self.cut(mid, &mixed).len() > max_sources.max(1) {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        self.cut(hi, &mixed)
-    }
-
-    /// The shallowest nodes of area at most `threshold` (or leaves) that are not `mixed`, in
-    /// element order.
-    fn cut(&self, threshold: f64, mixed: &[bool]) -> Vec<u32> {
-        let mut out = Vec::new();
-        // Depth-first, roots in patch order: sources come out in element order.
-        let mut stack: Vec<u32> = self.roots.iter().flat_map(|r| r.clone()).collect();
-        stack.reverse();
-        while let Some(n) = stack.pop() {
-            let node = &self.nodes[n as usize];
-            match node.children {
-                Some(c) if node.face.area() > threshold || mixed[n as usize] => {
-                    stack.extend((c..c + 4).rev());
-                }
-                _ => out.push(n),
-            }
-        }
-        out
-    }
-
     /// Checks the quadtree invariants: children partition their parent's area and element range,
     /// levels increase by one, leaves are numbered depth-first, every patch's roots cover its
     /// area.
@@ -450,97 +352,6 @@ fn split_area_tolerance(face: &Face) -> f64 {
     let rounding =
         16.0 * f64::from(f32::EPSILON) * f64::from(magnitude) * f64::from(face.diameter());
     1e-4 * face.area() + rounding
-}
-
-/// Levels of uniform subdivision that bring a face of area `area` to at most `target`.
-fn level_for(area: f64, target: f64) -> u8 {
-    if target.is_nan() || target <= 0.0 || area <= target {
-        return 0;
-    }
-    let levels = ((area / target).ln() / 4f64.ln()).ceil();
-    levels.min(f64::from(MAX_LEVEL)) as u8
-}
-
-/// How much coarser than the target the elements of an emitter that reflects nothing may be.
-///
-/// Its radiosity is its emission, exactly, however it is split: it is subdivided only for its
-/// part as a source of light (16× the target area: two quadtree levels coarser), and its area
-/// is left out of the element budget. Without this the default sky
-/// ([`crate::scene::sky`]), fifteen times the area of the chair it lights, took 94 % of the
-/// elements.
-pub const DARK_EMITTER_COARSENING: f64 = 16.0;
-
-/// Whether a patch is an emitter that reflects nothing (see [`DARK_EMITTER_COARSENING`]).
-fn dark_emitter(patch: &Patch) -> bool {
-    patch.reflectance.max_element() <= 0.0 && patch.emission.max_element() > 0.0
-}
-
-/// Areas of the root faces of the patches that share the element budget (all but the dark
-/// emitters; all of them when there is nothing else).
-fn root_areas(patches: &[(Patch, Vec<Face>)]) -> Vec<f64> {
-    let budgeted = |dark: bool| -> Vec<f64> {
-        patches
-            .iter()
-            .filter(|(p, _)| dark || !dark_emitter(p))
-            .flat_map(|(_, roots)| roots.iter().map(Face::area))
-            .collect()
-    };
-    let areas = budgeted(false);
-    if areas.is_empty() {
-        budgeted(true)
-    } else {
-        areas
-    }
-}
-
-/// The target element area that `subdivision` asks for.
-///
-/// For a count n it is the area that brings the total closest to n, but never more than four
-/// times the fair share (total area) / n: a scene of many small root faces (a scanned mesh of 7 000
-/// triangles in a room) would otherwise spend the whole budget on them and leave each wall one
-/// element, whose 2 × 2 quadrature points then miss the light's peak (the floor under such a
-/// mesh came out 30 % too bright). The count then exceeds n by about the number of small roots.
-/// (Four times, not once: a face just above the share would otherwise be split one level more
-/// than the bisection chose, and the Cornell box would get 7 000 elements for 4 096.)
-fn target_for(root_areas: &[f64], subdivision: Subdivision) -> f64 {
-    match subdivision {
-        Subdivision::MaxArea(a) => a,
-        Subdivision::Elements(n) => {
-            let share = root_areas.iter().sum::<f64>() / n.max(1) as f64;
-            target_area(root_areas, n).min(4.0 * share)
-        }
-    }
-}
-
-/// Elements made by subdividing every root face down to `target` area.
-fn element_count(root_areas: &[f64], target: f64) -> f64 {
-    root_areas
-        .iter()
-        .map(|&a| 4f64.powi(i32::from(level_for(a, target))))
-        .sum()
-}
-
-/// The target element area that brings the total number of elements closest to `n`.
-fn target_area(root_areas: &[f64], n: usize) -> f64 {
-    let count = |t: f64| element_count(root_areas, t);
-    let total: f64 = root_areas.iter().sum();
-    let goal = n.max(1) as f64;
-    // The count falls as the target grows; bisect on a log scale.
-    let (mut lo, mut hi) = (total / goal / 1e4, total.max(f64::MIN_POSITIVE));
-    for _ in 0..64 {
-        let mid = (lo * hi).sqrt();
-        if count(mid) > goal {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    // Take whichever side of the jump is closer to the request.
-    if (count(lo) - goal).abs() < (count(hi) - goal).abs() {
-        lo
-    } else {
-        hi
-    }
 }
 
 #[cfg(test)]
