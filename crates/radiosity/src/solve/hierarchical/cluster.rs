@@ -29,6 +29,9 @@ pub const LEAF_FACES: usize = 4;
 /// ones sum their faces when asked.
 pub const TABULATED: usize = 32;
 
+// Leaf clusters are never tabulated ([`Clusters::tabulate`] reads only children).
+const _: () = assert!(LEAF_FACES <= TABULATED);
+
 /// One cluster: a node of the binary tree over root faces.
 #[derive(Clone, Debug)]
 pub struct Cluster {
@@ -151,27 +154,22 @@ impl Clusters {
     fn tabulate(&mut self) {
         for c in (0..self.nodes.len()).rev() {
             let cluster = &self.nodes[c];
-            if cluster.faces.len() <= TABULATED {
+            // Leaf clusters hold at most LEAF_FACES faces: never tabulated.
+            let Some(children) = cluster.children.filter(|_| cluster.faces.len() > TABULATED)
+            else {
                 continue;
-            }
-            let mut table = Projected::default();
-            let parts: Vec<u32> = match cluster.children {
-                Some([a, b]) => vec![a, b],
-                None => Vec::new(),
             };
-            let mut loose = Vec::new();
-            if parts.is_empty() {
-                loose.push(cluster.faces.clone());
-            }
-            for k in parts {
-                match &self.nodes[k as usize].projected {
+            let mut table = Projected::default();
+            for k in children {
+                let child = &self.nodes[k as usize];
+                match &child.projected {
                     Some(t) => table.add(t),
-                    None => loose.push(self.nodes[k as usize].faces.clone()),
-                }
-            }
-            for range in loose {
-                for f in &self.face_facing[range.start as usize..range.end as usize] {
-                    table.add_face(vector_area(f));
+                    None => {
+                        let range = child.faces.start as usize..child.faces.end as usize;
+                        for f in &self.face_facing[range] {
+                            table.add_face(vector_area(f));
+                        }
+                    }
                 }
             }
             self.nodes[c].projected = Some(table);

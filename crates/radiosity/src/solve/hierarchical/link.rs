@@ -330,8 +330,8 @@ impl<'a> View<'a> {
             // P(ω) = ½ V·ω + ½ Σ A_f |n_f·ω| moves by at most (|V| + A)·α/2 when ω turns by α.
             let turn = 0.5 * (cluster.vector_area.length() + cluster.area) * alpha;
             let p = self.clusters.projected_area(c, w);
-            let c = |x: f64| (x / cluster.area).clamp(0.0, 1.0);
-            return (c(p - turn), c(p), c(p + turn));
+            let share = |x: f64| (x / cluster.area).clamp(0.0, 1.0);
+            return (share(p - turn), share(p), share(p + turn));
         }
         let node = &self.mesh.nodes[h as usize];
         let n = self.mesh.patches[node.patch as usize].normal.as_dvec3();
