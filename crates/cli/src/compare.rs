@@ -6,6 +6,7 @@ use std::io::IsTerminal;
 use std::time::Instant;
 
 use anyhow::Result;
+use radiosity::io::atomic::Batch;
 use radiosity::io::image_file::write_image;
 use radiosity::mesh::{display, Mesh, Subdivision};
 use radiosity::pipeline::Solved;
@@ -135,9 +136,18 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         let white = Rgb::splat(1.0 / tonemap::exposure_scale(exposure));
         let refs: Vec<(&str, &Image)> = panels.iter().map(|(l, i)| (*l, i)).collect();
         let image = compare::compose(&refs, white);
-        write_image(&args.output, &image, exposure)?;
-        job::say(common, &format!("wrote {}", args.output.display()));
-        let render_seconds = render_start.elapsed().as_secs_f64();
-        job::finish(&solved, common, None, start, load, render_seconds)
+        let mut batch = Batch::new();
+        if job::may_write(&args.output, &solved, common) {
+            job::stage(&mut batch, &args.output, |tmp| {
+                Ok(write_image(tmp, &image, exposure)?)
+            })?;
+        }
+        let outputs = job::Outputs {
+            batch,
+            start,
+            load_seconds: load,
+            render_seconds: render_start.elapsed().as_secs_f64(),
+        };
+        job::finish(&solved, common, None, outputs)
     })
 }

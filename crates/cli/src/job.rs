@@ -1,8 +1,9 @@
 //! `radiosity render` and `radiosity solve`: check the outputs, load, solve, render, write.
 //!
 //! Everything that can be checked before the (possibly long) solve is checked first: output
-//! extensions, output directories, the mode, the camera name. Files are written atomically
-//! (images by [`write_image`], the rest through [`write_atomic`]), so a failure leaves no
+//! extensions, output directories, the mode, the camera name. A job's outputs are written to
+//! temporary files first and renamed onto their targets together at the end
+//! ([`radiosity::io::atomic::Batch`]), so a failure anywhere leaves none of them, and no
 //! partial file.
 
 use std::io::{IsTerminal, Write};
@@ -12,7 +13,7 @@ use std::sync::{Arc, OnceLock};
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
-use radiosity::io::atomic::write_atomic;
+use radiosity::io::atomic::{write_atomic, Batch};
 use radiosity::io::gltf::{write_glb, Placement, VertexColours};
 use radiosity::io::html;
 use radiosity::io::image_file::write_image;
@@ -72,7 +73,13 @@ pub fn solve(args: &SolveArgs) -> Result<()> {
         let start = Instant::now();
         let (scene, load) = load(&args.scene, &args.common)?;
         let solved = run_solve(scene, &args.common)?;
-        finish(&solved, &args.common, None, start, load, 0.0)
+        let outputs = Outputs {
+            batch: Batch::new(),
+            start,
+            load_seconds: load,
+            render_seconds: 0.0,
+        };
+        finish(&solved, &args.common, None, outputs)
     })
 }
 
@@ -125,11 +132,13 @@ fn render_job(args: &RenderArgs) -> Result<()> {
         let exposure = args
             .exposure
             .unwrap_or_else(|| tonemap::auto_exposure(&image));
+        let mut batch = Batch::new();
         for path in &outputs {
-            write_image(path, &image, exposure)?;
-            say(common, &format!("wrote {}", path.display()));
+            stage(&mut batch, path, |tmp| {
+                Ok(write_image(tmp, &image, exposure)?)
+            })?;
         }
-        return Ok(());
+        return commit(batch, common);
     }
     let solved = run_solve(scene, common)?;
 
@@ -146,10 +155,12 @@ fn render_job(args: &RenderArgs) -> Result<()> {
     let exposure = args
         .exposure
         .unwrap_or_else(|| tonemap::auto_exposure(&image));
+    let mut batch = Batch::new();
     for path in &outputs {
         if may_write(path, &solved, common) {
-            write_image(path, &image, exposure)?;
-            say(common, &format!("wrote {}", path.display()));
+            stage(&mut batch, path, |tmp| {
+                Ok(write_image(tmp, &image, exposure)?)
+            })?;
         }
     }
     let render_seconds = render_start.elapsed().as_secs_f64();
@@ -158,9 +169,12 @@ fn render_job(args: &RenderArgs) -> Result<()> {
         &solved,
         common,
         Some((&camera, aspect)),
-        start,
-        load,
-        render_seconds,
+        Outputs {
+            batch,
+            start,
+            load_seconds: load,
+            render_seconds,
+        },
     )
 }
 
@@ -337,16 +351,33 @@ fn control(common: &CommonArgs) -> Result<Control> {
 /// its `.glb` exports.
 pub(crate) type View<'a> = (&'a Camera, f32);
 
-/// Writes the export and the stats of a finished job; `view` is the render's camera, if any
-/// (the exports then carry it first, before the scene's own).
+/// The outputs of a job so far (its images, staged) and the times its statistics report.
+pub(crate) struct Outputs {
+    /// Files written so far, renamed onto their targets together by [`finish`].
+    pub batch: Batch,
+    /// When the job began.
+    pub start: Instant,
+    /// Seconds spent loading the scene.
+    pub load_seconds: f64,
+    /// Seconds spent rendering (zero without a render).
+    pub render_seconds: f64,
+}
+
+/// Writes the exports, the plot and the stats of a finished job beside the images already in
+/// `outputs`, then lets them all appear together; `view` is the render's camera, if any (the
+/// exports then carry it first, before the scene's own).
 pub(crate) fn finish(
     solved: &Solved,
     common: &CommonArgs,
     view: Option<View>,
-    start: Instant,
-    load_seconds: f64,
-    render_seconds: f64,
+    outputs: Outputs,
 ) -> Result<()> {
+    let Outputs {
+        mut batch,
+        start,
+        load_seconds,
+        render_seconds,
+    } = outputs;
     let scene_cameras = &solved.scene.cameras;
     let first = view.map(|(camera, _)| {
         let mut camera = camera.clone();
@@ -382,9 +413,10 @@ pub(crate) fn finish(
             .map(|o| o.name.clone())
             .collect();
         let colours = common.export_exposure;
+        let tmp = batch.stage(path)?;
         let written = match extension(path).as_str() {
             "glb" => write_glb(
-                path,
+                &tmp,
                 &solved.lit,
                 &names,
                 glb_colours(colours),
@@ -394,11 +426,10 @@ pub(crate) fn finish(
                     aspect,
                 },
             ),
-            "html" => html::write_solved(path, solved, html_exposure(colours)),
-            _ => write_ply(path, &solved.lit, &names),
+            "html" => html::write_solved(&tmp, solved, html_exposure(colours)),
+            _ => write_ply(&tmp, &solved.lit, &names),
         };
         written.with_context(|| format!("{}: cannot write", path.display()))?;
-        say(common, &format!("wrote {}", path.display()));
     }
     let stats = solved.stats(&Timings {
         load: load_seconds,
@@ -412,9 +443,9 @@ pub(crate) fn finish(
         .filter(|p| may_write(p, solved, common))
     {
         let history = &solved.solution.history;
-        write_convergence_svg(path, &solved.scene.name, history)
-            .with_context(|| format!("{}: cannot write", path.display()))?;
-        say(common, &format!("wrote {}", path.display()));
+        stage(&mut batch, path, |tmp| {
+            Ok(write_convergence_svg(tmp, &solved.scene.name, history)?)
+        })?;
     }
     if let Some(path) = common
         .stats
@@ -423,10 +454,11 @@ pub(crate) fn finish(
     {
         let mut json = serde_json::to_vec_pretty(&stats)?;
         json.push(b'\n');
-        write_atomic(path, |w| w.write_all(&json))
-            .with_context(|| format!("{}: cannot write", path.display()))?;
-        say(common, &format!("wrote {}", path.display()));
+        stage(&mut batch, path, |tmp| {
+            Ok(write_atomic(tmp, |w| w.write_all(&json))?)
+        })?;
     }
+    commit(batch, common)?;
     say(
         common,
         &format!(
@@ -448,6 +480,24 @@ pub(crate) fn finish(
             solved.solution.iterations
         ))
         .into());
+    }
+    Ok(())
+}
+
+/// Writes `path`'s content with `write` to a file staged in `batch`; an error names `path`.
+pub(crate) fn stage(
+    batch: &mut Batch,
+    path: &Path,
+    write: impl FnOnce(&Path) -> Result<()>,
+) -> Result<()> {
+    let tmp = batch.stage(path)?;
+    write(&tmp).with_context(|| format!("{}: cannot write", path.display()))
+}
+
+/// Lets the staged outputs appear and says so.
+fn commit(batch: Batch, common: &CommonArgs) -> Result<()> {
+    for path in batch.commit()? {
+        say(common, &format!("wrote {}", path.display()));
     }
     Ok(())
 }
@@ -566,7 +616,7 @@ fn extension(path: &Path) -> String {
 /// Whether to write `path`: always after a complete solve; after an interrupted one only if it
 /// does not exist yet or `--write-partial` asks (partial results never silently replace a
 /// finished run's files), saying so when it is kept.
-fn may_write(path: &Path, solved: &Solved, common: &CommonArgs) -> bool {
+pub(crate) fn may_write(path: &Path, solved: &Solved, common: &CommonArgs) -> bool {
     if !solved.solution.interrupted || common.write_partial || !path.exists() {
         return true;
     }

@@ -661,3 +661,49 @@ fn a_render_exports_its_own_camera_first() {
         .ends_with("(command line)"));
     fs::remove_dir_all(&dir).expect("cleanup");
 }
+
+#[test]
+fn a_failing_output_leaves_none_of_the_outputs() {
+    // The export's directory vanishes while the scene solves: the image, written before it,
+    // and the stats must not appear either, and no temporary file may stay behind.
+    let dir = scratch("all-or-nothing");
+    fs::create_dir_all(dir.join("sub")).expect("mkdir");
+    fs::write(dir.join("out.png"), b"earlier").expect("seed");
+    let child = radiosity()
+        .args([
+            "render",
+            "cornell",
+            "--elements",
+            "1500",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "-o",
+            "out.png",
+            "--export",
+            "sub/lit.glb",
+            "--stats",
+            "stats.json",
+        ])
+        .current_dir(&dir)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawns");
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    fs::remove_dir(dir.join("sub")).expect("rmdir");
+    let out = child.wait_with_output().expect("waits");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    let error: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error")).collect();
+    assert_eq!(error.len(), 1, "{stderr}");
+    assert!(error[0].contains("sub/lit.glb: cannot write"), "{stderr}");
+    let mut left: Vec<String> = fs::read_dir(&dir)
+        .expect("list")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(left, ["out.png"], "{stderr}");
+    assert_eq!(fs::read(dir.join("out.png")).expect("read"), b"earlier");
+    fs::remove_dir_all(&dir).expect("cleanup");
+}

@@ -5,6 +5,11 @@
 //! directory is atomic on POSIX file systems (and replaces the target on Windows), so readers
 //! never see a half-written image or mesh, and a failed write leaves the target untouched and
 //! no temporary file behind.
+//!
+//! A job with several outputs (an image, an export, the statistics) uses a [`Batch`]: each
+//! output is written in full to its own temporary file first, and only when every one of them
+//! is written are they renamed onto their targets, one after the other. A failure before that
+//! point (a full disk, an exporter's error, Ctrl-C) leaves every target as it was.
 
 use std::fs::{self, File};
 use std::io::{self, BufWriter, Write};
@@ -60,6 +65,80 @@ fn write_then_rename(
     fs::rename(tmp, path)
 }
 
+/// Outputs that appear together or not at all: see the module documentation.
+///
+/// [`Batch::stage`] names a temporary file for a target; the caller writes it (with any
+/// writer, atomic or not); [`Batch::commit`] renames every staged file onto its target. A batch
+/// dropped without a commit removes its temporary files.
+#[derive(Debug, Default)]
+pub struct Batch {
+    /// (temporary file, target) in the order staged.
+    staged: Vec<(PathBuf, PathBuf)>,
+}
+
+impl Batch {
+    /// An empty batch.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The temporary file to write `path`'s content to: `.{stem}.tmp-{pid}-{n}.{extension}` in
+    /// the same directory, keeping the extension for writers that choose a format by it.
+    ///
+    /// # Errors
+    /// A path without a file name ([`io::ErrorKind::InvalidInput`]).
+    pub fn stage(&mut self, path: &Path) -> io::Result<PathBuf> {
+        let stem = path.file_stem().ok_or_else(|| {
+            io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("{} is not a file path", path.display()),
+            )
+        })?;
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let mut name = format!(".{}.tmp-{}-{n}", stem.to_string_lossy(), std::process::id());
+        if let Some(extension) = path.extension() {
+            name = format!("{name}.{}", extension.to_string_lossy());
+        }
+        let tmp = path.with_file_name(name);
+        self.staged.push((tmp.clone(), path.to_path_buf()));
+        Ok(tmp)
+    }
+
+    /// Renames every staged file onto its target, in the order staged; returns the targets.
+    ///
+    /// # Errors
+    /// The first rename that fails (a staged file that was never written, say); the files
+    /// not yet renamed are then removed. Renames within a directory do not fail in practice
+    /// once the files are written, so the targets change together.
+    pub fn commit(mut self) -> io::Result<Vec<PathBuf>> {
+        let staged = std::mem::take(&mut self.staged);
+        let mut done = Vec::with_capacity(staged.len());
+        let mut rest = staged.into_iter();
+        for (tmp, path) in rest.by_ref() {
+            if let Err(e) = fs::rename(&tmp, &path) {
+                self.staged = rest.collect();
+                let _ = fs::remove_file(&tmp);
+                return Err(io::Error::new(
+                    e.kind(),
+                    format!("{}: cannot write: {e}", path.display()),
+                ));
+            }
+            done.push(path);
+        }
+        Ok(done)
+    }
+}
+
+impl Drop for Batch {
+    fn drop(&mut self) {
+        for (tmp, _) in &self.staged {
+            // Best effort: a staged file may not have been written.
+            let _ = fs::remove_file(tmp);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -108,6 +187,40 @@ mod tests {
         assert!(write_atomic(&existing, |_| Err(io::Error::other("boom"))).is_err());
         assert_eq!(fs::read(&existing).expect("read"), b"old");
         assert_eq!(entries(&dir), vec!["existing.txt"]);
+        fs::remove_dir_all(&dir).expect("cleanup");
+    }
+
+    #[test]
+    fn a_batch_lands_whole_on_commit_and_leaves_nothing_when_dropped() {
+        let dir = scratch_dir("batch");
+        let (image, stats) = (dir.join("out.png"), dir.join("stats.json"));
+        fs::write(&image, b"old image").expect("seed");
+
+        let mut batch = Batch::new();
+        let tmp = batch.stage(&image).expect("stage");
+        assert_eq!(tmp.extension().and_then(|e| e.to_str()), Some("png"));
+        fs::write(&tmp, b"new image").expect("write");
+        let tmp = batch.stage(&stats).expect("stage");
+        fs::write(&tmp, b"{}").expect("write");
+        // A failure after some outputs are written: nothing lands, no temporary stays.
+        drop(batch);
+        assert_eq!(fs::read(&image).expect("read"), b"old image");
+        assert_eq!(entries(&dir), vec!["out.png"]);
+
+        let mut batch = Batch::new();
+        for (path, text) in [(&image, b"new image".as_slice()), (&stats, b"{}")] {
+            let tmp = batch.stage(path).expect("stage");
+            write_atomic(&tmp, |w| w.write_all(text)).expect("write");
+        }
+        assert_eq!(batch.commit().expect("commit"), vec![image.clone(), stats]);
+        assert_eq!(fs::read(&image).expect("read"), b"new image");
+        assert_eq!(entries(&dir), vec!["out.png", "stats.json"]);
+
+        // A staged file never written: the commit fails and removes what is left.
+        let mut batch = Batch::new();
+        let _ = batch.stage(&dir.join("never.ply")).expect("stage");
+        assert!(batch.commit().is_err());
+        assert_eq!(entries(&dir), vec!["out.png", "stats.json"]);
         fs::remove_dir_all(&dir).expect("cleanup");
     }
 
