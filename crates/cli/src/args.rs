@@ -346,8 +346,9 @@ pub struct CommonArgs {
     /// a uniform white enclosure of radiance 1 W·m⁻²·sr⁻¹ around its bounds
     #[arg(long)]
     pub no_default_light: bool,
-    /// Save the solver state to this file periodically and when interrupted (Jacobi,
-    /// Gauss-Seidel and progressive solvers).
+    /// Save the solver state to this file periodically and when interrupted, also during the
+    /// form factors (every solver; the gathering solvers' checkpoint holds the form-factor rows
+    /// computed so far, so a resumed run computes only the missing ones; binary).
     #[arg(long, value_name = "PATH")]
     pub checkpoint: Option<PathBuf>,
     /// Seconds between two checkpoints.

@@ -310,9 +310,9 @@ pub(crate) fn stop_flag() -> Arc<AtomicBool> {
 fn control(common: &CommonArgs) -> Result<Control> {
     let resume = match &common.resume {
         Some(path) => {
-            let text = std::fs::read(path)
+            let file = std::fs::File::open(path)
                 .with_context(|| format!("{}: cannot resume", path.display()))?;
-            let cp = Checkpoint::from_json(&text)
+            let cp = Checkpoint::read(&mut std::io::BufReader::new(file))
                 .map_err(|e| anyhow::anyhow!("{}: cannot resume: {e}", path.display()))?;
             Some(cp)
         }
@@ -323,10 +323,7 @@ fn control(common: &CommonArgs) -> Result<Control> {
         Checkpointing {
             every: Duration::from_secs_f64(common.checkpoint_every),
             save: Arc::new(move |cp: &Checkpoint| {
-                let written = cp
-                    .to_json()
-                    .map_err(std::io::Error::other)
-                    .and_then(|json| write_atomic(&path, |w| w.write_all(&json)));
+                let written = write_atomic(&path, |w| cp.write(w));
                 if let Err(e) = written {
                     if !quiet {
                         let _ = writeln!(

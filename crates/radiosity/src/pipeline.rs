@@ -90,8 +90,7 @@ pub fn solve(
 /// fingerprint.
 ///
 /// # Errors
-/// Those of [`solve`]; a checkpoint that belongs to another run, or checkpoints asked of the
-/// hierarchical solver.
+/// Those of [`solve`]; a checkpoint that belongs to another run.
 pub fn solve_controlled(
     scene: Scene,
     settings: &Settings,
@@ -104,12 +103,7 @@ pub fn solve_controlled(
     let limit = settings.solve.max_matrix_bytes;
     // Hierarchical radiosity refines from the root faces by its own oracle: the requested
     // uniform subdivision does not apply to it.
-    let hierarchical = |scene| {
-        if control.uses_checkpoints() {
-            return Err(SolveError::CheckpointUnsupported.into());
-        }
-        solve_hierarchical(scene, settings, control, progress, start)
-    };
+    let hierarchical = |scene| solve_hierarchical(scene, settings, control, progress, start);
     if settings.method == Some(solve::Method::Hierarchical) {
         return hierarchical(scene);
     }
@@ -182,7 +176,15 @@ fn solve_hierarchical(
         method: solve::Method::Hierarchical,
         ..settings.solve
     };
-    let run = hierarchical::run(&mut mesh, &bvh, &solve_settings, control, progress);
+    // The refinement's own settings decide the answer: checkpoints must match them.
+    let control = Control {
+        context: hash_text(&format!(
+            "{:?}",
+            (solve_settings.epsilon, solve_settings.min_element_area)
+        )),
+        ..control.clone()
+    };
+    let run = hierarchical::run(&mut mesh, &bvh, &solve_settings, &control, progress)?;
     let radiosity: Vec<Rgb> = mesh
         .elements
         .iter()

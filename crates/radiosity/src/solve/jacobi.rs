@@ -48,9 +48,10 @@ pub(super) fn sweeps(
     progress: &dyn Progress,
     mut sweep: impl FnMut(&mut Vec<Rgb>, &mut [Rgb]) -> f64,
 ) -> Run {
+    // A checkpoint of the form-factor stage holds no sweep yet: start as afresh.
     let (mut b, mut iterations, mut residual) = match session.resume() {
-        Some(it) => (it.radiosity, it.iterations, it.residual),
-        None => (system.emission.clone(), 0, 1.0),
+        Some(it) if it.iterations > 0 => (it.radiosity, it.iterations, it.residual),
+        _ => (system.emission.clone(), 0, 1.0),
     };
     let mut means = vec![Rgb::ZERO; system.source_area.len()];
     let (start, mut history, mut interrupted) = (std::time::Instant::now(), Vec::new(), false);
@@ -83,9 +84,8 @@ pub(super) fn iterate(b: &[Rgb], iterations: usize, residual: f64) -> Iterate {
     Iterate {
         iterations,
         residual,
-        links: 0,
         radiosity: b.to_vec(),
-        unshot: Vec::new(),
+        ..Iterate::default()
     }
 }
 

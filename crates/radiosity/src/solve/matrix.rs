@@ -7,6 +7,7 @@
 //! row depends on its element only, so the matrix is the same at any thread count.
 
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 use rayon::prelude::*;
 
@@ -14,14 +15,19 @@ use super::SolveError;
 use crate::formfactor::{FormFactors, Geometry};
 use crate::progress::Progress;
 
-/// Rows per parallel task (and per progress report).
-const CHUNK_ROWS: usize = 16;
+/// Rows per parallel task (and per progress report, and per unit of a partial matrix).
+pub(super) const CHUNK_ROWS: usize = 16;
 
-/// Form factors from every element (row) to every source (column).
-#[derive(Clone, Debug)]
+/// Form factors from every element (row) to every source (column), possibly partial: a stop
+/// leaves whole chunks of [`CHUNK_ROWS`] rows done and the others zero, and a checkpoint keeps
+/// the done ones (see [`super::checkpoint`]). The data is shared, so a checkpoint holds the
+/// matrix without copying it.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Matrix {
     sources: usize,
-    data: Vec<f32>,
+    data: Arc<Vec<f32>>,
+    /// Whether each chunk of rows is computed.
+    done: Vec<bool>,
 }
 
 /// Scales a row whose sum exceeds 1 down to 1: an element cannot see more than its hemisphere.
@@ -57,20 +63,22 @@ impl Matrix {
         limit: u64,
         progress: &dyn Progress,
     ) -> Result<Self, SolveError> {
-        Self::fill(g, ff, limit, None, progress)
+        Self::fill(g, ff, limit, None, None, progress)
     }
 
-    /// [`Matrix::compute`], abandoned (`Ok(None)`) when `stop` is set: the chunks of rows not
-    /// yet begun are skipped.
-    pub(super) fn compute_unless_stopped(
+    /// [`Matrix::compute`], taking the chunks already done in `prior` (a matrix of the same
+    /// shape from a checkpoint) and skipping the chunks not yet begun once `stop` is set: the
+    /// result is then partial ([`Matrix::complete`] is false). Every row depends on its element
+    /// only, so the rows taken from `prior` are those this run would compute.
+    pub(super) fn resume(
         g: &Geometry,
         ff: &dyn FormFactors,
         limit: u64,
-        stop: &AtomicBool,
+        stop: Option<&AtomicBool>,
+        prior: Option<&Matrix>,
         progress: &dyn Progress,
-    ) -> Result<Option<Self>, SolveError> {
-        let matrix = Self::fill(g, ff, limit, Some(stop), progress)?;
-        Ok((!stop.load(Ordering::Relaxed)).then_some(matrix))
+    ) -> Result<Self, SolveError> {
+        Self::fill(g, ff, limit, stop, prior, progress)
     }
 
     fn fill(
@@ -78,9 +86,46 @@ impl Matrix {
         ff: &dyn FormFactors,
         limit: u64,
         stop: Option<&AtomicBool>,
+        prior: Option<&Matrix>,
         progress: &dyn Progress,
     ) -> Result<Self, SolveError> {
         let (rows, sources) = (g.mesh.element_count(), g.sources.len());
+        let mut data = Self::zeros(rows, sources, limit)?;
+        let prior = prior.filter(|p| p.shape() == (rows, sources));
+        progress.start("form factors", rows as u64);
+        let done = if sources > 0 {
+            data.par_chunks_mut(CHUNK_ROWS * sources)
+                .enumerate()
+                .map(|(chunk, block)| {
+                    let first = chunk * CHUNK_ROWS;
+                    if let Some(prior) = prior.filter(|p| p.done[chunk]) {
+                        block.copy_from_slice(&prior.data[first * sources..][..block.len()]);
+                    } else {
+                        if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+                            return false;
+                        }
+                        for (k, row) in block.chunks_mut(sources).enumerate() {
+                            ff.row(g, first + k, row);
+                            cap_at_hemisphere(row);
+                        }
+                    }
+                    progress.advance((block.len() / sources) as u64);
+                    true
+                })
+                .collect()
+        } else {
+            vec![true; rows.div_ceil(CHUNK_ROWS)]
+        };
+        progress.finish();
+        Ok(Self {
+            sources,
+            data: Arc::new(data),
+            done,
+        })
+    }
+
+    /// A zero `rows × sources` array, if it fits within `limit` bytes and in memory.
+    fn zeros(rows: usize, sources: usize, limit: u64) -> Result<Vec<f32>, SolveError> {
         let bytes = Self::bytes(rows, sources);
         let too_large = SolveError::MatrixTooLarge { bytes, limit };
         if bytes > limit || usize::try_from(bytes).is_err() {
@@ -90,23 +135,45 @@ impl Matrix {
         data.try_reserve_exact(rows * sources)
             .map_err(|_| too_large)?;
         data.resize(rows * sources, 0.0);
-        progress.start("form factors", rows as u64);
-        if sources > 0 {
-            data.par_chunks_mut(CHUNK_ROWS * sources)
-                .enumerate()
-                .for_each(|(chunk, block)| {
-                    if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
-                        return;
-                    }
-                    for (k, row) in block.chunks_mut(sources).enumerate() {
-                        ff.row(g, chunk * CHUNK_ROWS + k, row);
-                        cap_at_hemisphere(row);
-                    }
-                    progress.advance((block.len() / sources) as u64);
-                });
-        }
-        progress.finish();
-        Ok(Self { sources, data })
+        Ok(data)
+    }
+
+    /// (rows, sources).
+    #[must_use]
+    pub fn shape(&self) -> (usize, usize) {
+        (
+            self.data.len().checked_div(self.sources).unwrap_or(0),
+            self.sources,
+        )
+    }
+
+    /// Whether every row is computed.
+    #[must_use]
+    pub fn complete(&self) -> bool {
+        self.done.iter().all(|&d| d)
+    }
+
+    /// Whether each chunk of [`CHUNK_ROWS`] rows is computed.
+    pub(super) fn chunks_done(&self) -> &[bool] {
+        &self.done
+    }
+
+    /// The rows, row-major (zero in chunks not done).
+    pub(super) fn data(&self) -> &[f32] {
+        &self.data
+    }
+
+    /// A matrix read back from a checkpoint: `data` holds every row, zero where `done` is
+    /// false. `None` when the lengths disagree.
+    pub(super) fn from_parts(sources: usize, data: Vec<f32>, done: Vec<bool>) -> Option<Self> {
+        let rows = data.len().checked_div(sources).unwrap_or(0);
+        let consistent =
+            data.len().is_multiple_of(sources.max(1)) && done.len() == rows.div_ceil(CHUNK_ROWS);
+        consistent.then(|| Self {
+            sources,
+            data: Arc::new(data),
+            done,
+        })
     }
 
     /// Row `element`: F from that element to every source.

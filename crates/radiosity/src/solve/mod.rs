@@ -181,9 +181,6 @@ pub enum SolveError {
     /// The checkpoint to resume from was made by another solver, scene or settings.
     #[error("the checkpoint does not belong to this run: {0}")]
     CheckpointMismatch(String),
-    /// The hierarchical solver does not take checkpoints.
-    #[error("the hierarchical solver cannot checkpoint or resume: choose `--solver gauss-seidel`, `--solver jacobi` or `--solver progressive`")]
-    CheckpointUnsupported,
     /// The sources are not a cut through the quadtrees.
     #[error("the sources do not cover element {element} exactly once")]
     BadSources {
@@ -220,8 +217,7 @@ pub fn solve(
 ///
 /// # Errors
 /// Those of [`solve`]; [`SolveError::CheckpointMismatch`] when the checkpoint to resume from
-/// was made for another system or method, and [`SolveError::CheckpointUnsupported`] when the
-/// hierarchical solver is asked for checkpoints.
+/// was made for another system or method.
 pub fn solve_controlled(
     g: &Geometry,
     ff: &dyn FormFactors,
@@ -230,10 +226,6 @@ pub fn solve_controlled(
     progress: &dyn Progress,
 ) -> Result<Solution, SolveError> {
     let mut system = System::new(g)?;
-    if settings.method == Method::Hierarchical && control.uses_checkpoints() {
-        return Err(SolveError::CheckpointUnsupported);
-    }
-    let mut session = checkpoint::Session::new(control, &system, settings.method)?;
     let mut solution = Solution {
         radiosity: system.emission.clone(),
         method: settings.method,
@@ -250,25 +242,38 @@ pub fn solve_controlled(
     if system.emitted <= 0.0 || !system.emitted.is_finite() {
         return Ok(solution);
     }
+    let session = |sources: &[u32]| {
+        let problem = checkpoint::Problem::new(g.mesh, sources, settings.method, control.context);
+        checkpoint::Session::new(control, problem, settings.method)
+    };
     match settings.method {
         Method::Jacobi | Method::GaussSeidel => {
+            let mut session = session(g.sources)?;
             let start = Instant::now();
             let limit = settings.max_matrix_bytes;
-            let matrix = match &control.stop {
-                Some(stop) => matrix::Matrix::compute_unless_stopped(g, ff, limit, stop, progress)?,
-                None => Some(matrix::Matrix::compute(g, ff, limit, progress)?),
-            };
+            let stop = session.stop_flag();
+            let prior = session.resumed_matrix();
+            let matrix = matrix::Matrix::resume(g, ff, limit, stop, prior, progress)?;
             solution.form_factor_seconds = start.elapsed().as_secs_f64();
-            let Some(matrix) = matrix else {
-                // Stopped before any sweep: what there is, E or the resumed iterate.
+            session.keep_matrix(&matrix);
+            if !matrix.complete() {
+                // Stopped before any sweep: what there is, E or the resumed iterate, saved
+                // with the rows computed so far.
                 if let Some(it) = session.resume() {
                     solution.radiosity = it.radiosity;
                     solution.iterations = it.iterations;
                     solution.residual = it.residual;
                 }
+                let (radiosity, iterations) = (&solution.radiosity, solution.iterations);
+                session.after_iteration(true, || checkpoint::Iterate {
+                    iterations,
+                    residual: solution.residual,
+                    radiosity: radiosity.clone(),
+                    ..checkpoint::Iterate::default()
+                });
                 solution.interrupted = true;
                 return Ok(solution);
-            };
+            }
             solution.links = matrix.links();
             let start = Instant::now();
             progress.start("solve", 0);
@@ -289,7 +294,7 @@ pub fn solve_controlled(
         Method::Hierarchical => {
             // Refine a copy (node ids stay, so each given element reads its node's mean).
             let mut mesh = g.mesh.clone();
-            let run = hierarchical::run(&mut mesh, g.bvh, settings, control, progress);
+            let run = hierarchical::run(&mut mesh, g.bvh, settings, control, progress)?;
             solution.radiosity = g
                 .mesh
                 .elements
@@ -306,6 +311,7 @@ pub fn solve_controlled(
             solution.hierarchy = Some(run.stats);
         }
         Method::Progressive => {
+            let mut session = session(g.sources)?;
             let start = Instant::now();
             progress.start("solve", 0);
             let run = progressive::run(&system, g, ff, settings, &mut session, progress);

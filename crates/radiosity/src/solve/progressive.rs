@@ -85,6 +85,7 @@ pub(super) fn run(
         links,
         radiosity: b.to_vec(),
         unshot: unshot.to_vec(),
+        hierarchy: None,
     };
     while iterations < settings.max_iterations && residual >= settings.tolerance {
         if session.stopped() {

@@ -98,6 +98,28 @@ impl Link {
         self.bound.abs()
     }
 
+    /// The link's exact bits: receiver, source, factor and bound (for checkpoints).
+    #[must_use]
+    pub fn to_bits(&self) -> [u32; 4] {
+        [
+            self.receiver,
+            self.source,
+            self.factor.to_bits(),
+            self.bound.to_bits(),
+        ]
+    }
+
+    /// The link of [`Link::to_bits`].
+    #[must_use]
+    pub fn from_bits(bits: [u32; 4]) -> Self {
+        Self {
+            receiver: bits[0],
+            source: bits[1],
+            factor: f32::from_bits(bits[2]),
+            bound: f32::from_bits(bits[3]),
+        }
+    }
+
     /// Whether two faces were found wholly visible to each other (every shadow ray arrived):
     /// then so are all pairs of their parts, and the links that refine this one take V = 1
     /// once their 4 quadrant rays confirm it, without the other 16 (after Hanrahan, Salzman

@@ -42,10 +42,14 @@ pub mod link;
 pub mod projected;
 pub mod push_pull;
 pub mod refine;
+mod snapshot;
 
 use std::time::Instant;
 
-use super::checkpoint::Control;
+pub use snapshot::Snapshot;
+
+use super::checkpoint::{Control, Iterate, Problem, Session};
+use super::{Method, SolveError};
 use crate::accel::Bvh;
 use crate::mesh::{Mesh, Node};
 use crate::progress::Progress;
@@ -107,17 +111,25 @@ pub struct Outcome {
 
 /// Refines `mesh` and solves it hierarchically with the options of `settings` (`epsilon`,
 /// `min_element_area`, `tolerance`, `max_iterations`), stopping early when `control`'s stop
-/// flag is set (checked between refinement rounds and between iterations).
+/// flag is set (checked between refinement rounds and between iterations). `control`'s
+/// checkpoints are taken at the end of a pass (see [`super::checkpoint`]); a resumed run
+/// replays the checkpoint's refinement on the unrefined `mesh` and goes on from the pass after.
 ///
 /// A scene that emits nothing gives B = 0 at once, with no links.
+///
+/// # Errors
+/// [`SolveError::CheckpointMismatch`] when the checkpoint to resume from belongs to another
+/// run.
 pub fn run(
     mesh: &mut Mesh,
     bvh: &Bvh,
     settings: &super::Settings,
     control: &Control,
     progress: &dyn Progress,
-) -> Outcome {
+) -> Result<Outcome, SolveError> {
     let began = Instant::now();
+    let problem = Problem::new(mesh, &[], Method::Hierarchical, control.context);
+    let mut session = Session::new(control, problem, Method::Hierarchical)?;
     let clusters = Clusters::build(mesh);
     let mut state = State::new(mesh, &clusters);
     // Σ A·|E| over the elements, each channel reduced by `channels`.
@@ -149,7 +161,7 @@ pub fn run(
     if !(emitted > 0.0 && emitted.is_finite()) {
         out.node_radiosity = state.node_b;
         out.stats.peak_memory_bytes = memory(mesh, &clusters, 0);
-        return out;
+        return Ok(out);
     }
     let epsilon = if settings.epsilon > 0.0 {
         settings.epsilon
@@ -162,10 +174,40 @@ pub fn run(
         mesh.total_area() * MIN_AREA_FRACTION
     };
     let mut links: Vec<Link> = Vec::new();
+    let mut splits: Vec<u32> = Vec::new();
     let mut peak = 0;
+    let (mut done, mut clock) = (0, 0.0);
+    // The state at the end of the last whole pass, for the checkpoint taken on a stop.
+    let mut last: Option<(Snapshot, usize, f64)> = None;
+    if let Some(it) = session.resume() {
+        let snap = it
+            .hierarchy
+            .unwrap_or_else(|| unreachable!("checked by Session::new"));
+        mesh.refine(&snap.splits);
+        state.grow(mesh);
+        let fits = snap.state.node_b.len() == mesh.nodes.len()
+            && snap.state.cluster_b.len() == clusters.nodes.len();
+        if !fits {
+            return Err(SolveError::CheckpointMismatch(
+                "its refinement does not fit this scene".to_owned(),
+            ));
+        }
+        state = State {
+            node_area: std::mem::take(&mut state.node_area),
+            ..snap.state.clone()
+        };
+        (links, splits, peak) = (snap.links.clone(), snap.splits.clone(), snap.peak);
+        (out.iterations, out.residual) = (it.iterations, it.residual);
+        (out.refine_seconds, out.solve_seconds) = snap.seconds;
+        out.history.clone_from(&snap.history);
+        clock = snap.history.last().map_or(0.0, |h| h.1);
+        done = snap.passes;
+        last = Some((snap, it.iterations, it.residual));
+    }
     let passes = STAGES + FINAL_PASSES + DISPLAY_PASSES;
     progress.start("hierarchical", u64::from(passes));
-    'passes: for pass in 0..passes {
+    progress.advance(u64::from(done));
+    'passes: for pass in done..passes {
         let stage = pass.min(STAGES - 1);
         let threshold = epsilon * 4f64.powi((STAGES - 1 - stage) as i32) * peak_power;
         let display = pass >= STAGES + FINAL_PASSES;
@@ -217,6 +259,7 @@ pub fn run(
             }
             mesh.refine(&round.splits);
             state.grow(mesh);
+            splits.extend_from_slice(&round.splits);
             refined += round.splits.len() as u64;
             if display {
                 // Forced receivers are split once; their children are judged by the oracle.
@@ -226,15 +269,9 @@ pub fn run(
         links.sort_unstable_by_key(|l| (l.receiver, l.source));
         out.refine_seconds += start.elapsed().as_secs_f64();
         progress.advance(1);
-        if pass > 0 && refined == 0 {
-            continue;
-        }
-        // Solve from the current radiosity.
+        // Solve from the current radiosity, unless the links did not change.
         let start = Instant::now();
-        loop {
-            if out.iterations >= settings.max_iterations {
-                break;
-            }
+        while (pass == 0 || refined > 0) && out.iterations < settings.max_iterations {
             if control.stopped() {
                 out.interrupted = true;
                 out.solve_seconds += start.elapsed().as_secs_f64();
@@ -243,13 +280,39 @@ pub fn run(
             let change = state.iterate(mesh, &clusters, &links);
             out.iterations += 1;
             out.residual = change / emitted;
-            out.history
-                .push((out.iterations, began.elapsed().as_secs_f64(), out.residual));
+            let seconds = clock + began.elapsed().as_secs_f64();
+            out.history.push((out.iterations, seconds, out.residual));
             if out.residual < settings.tolerance {
                 break;
             }
         }
         out.solve_seconds += start.elapsed().as_secs_f64();
+        if session.saving() {
+            let snap = Snapshot {
+                passes: pass + 1,
+                splits: splits.clone(),
+                links: links.clone(),
+                state: State {
+                    node_area: Vec::new(),
+                    ..state.clone()
+                },
+                history: out.history.clone(),
+                seconds: (out.refine_seconds, out.solve_seconds),
+                peak,
+            };
+            session.after_iteration(false, || snapshot_iterate(&snap, &out));
+            last = Some((snap, out.iterations, out.residual));
+        }
+    }
+    if out.interrupted {
+        if let Some((snap, iterations, residual)) = last {
+            session.after_iteration(true, || Iterate {
+                iterations,
+                residual,
+                hierarchy: Some(snap),
+                ..Iterate::default()
+            });
+        }
     }
     progress.finish();
     out.irradiance = state.element_irradiance(mesh);
@@ -262,7 +325,17 @@ pub fn run(
         .unwrap_or(0);
     out.stats.peak_memory_bytes = peak;
     out.node_radiosity = state.node_b;
-    out
+    Ok(out)
+}
+
+/// The checkpoint iterate of a pass's snapshot.
+fn snapshot_iterate(snap: &Snapshot, out: &Outcome) -> Iterate {
+    Iterate {
+        iterations: out.iterations,
+        residual: out.residual,
+        hierarchy: Some(snap.clone()),
+        ..Iterate::default()
+    }
 }
 
 /// The largest channel of B of every node and cluster, for the oracle.

@@ -49,7 +49,7 @@ use crate::Rgb;
 pub type Directional = [Rgb; 6];
 
 /// Radiosity and irradiance of every node and cluster.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct State {
     /// B of every mesh node (leaves: the element's; others: the mean below).
     pub node_b: Vec<Rgb>,
