@@ -22,8 +22,8 @@ use crate::bars::Bars;
 use crate::job;
 
 /// The image of `solved` seen by `camera` in `mode`; `gather` is the final-gather ray count of
-/// the ray tracer, `shadows` whether local illumination casts shadows. The ray-traced modes
-/// report progress and stop on Ctrl-C ([`job::Interrupted`], nothing written).
+/// the ray tracer, `shadows` whether local illumination casts shadows. Every mode reports
+/// progress and stops on Ctrl-C ([`job::Interrupted`], nothing written).
 pub fn render_mode(
     solved: &Solved,
     camera: &Camera,
@@ -35,7 +35,7 @@ pub fn render_mode(
 ) -> Result<Image> {
     let (scene, mesh, lit) = (&solved.scene, &solved.mesh, &solved.lit);
     watched(quiet, |watch| match mode {
-        Mode::Radiosity => Some(render::render(lit, camera, raster)),
+        Mode::Radiosity => render::render_watched(lit, camera, raster, watch),
         Mode::Local => {
             let settings = LocalSettings {
                 shadows,

@@ -269,7 +269,15 @@ pub(crate) fn run_solve(scene: Scene, common: &CommonArgs) -> Result<Solved> {
             );
         }
     }
+    if solved.as_ref().is_ok_and(|s| s.solution.interrupted) {
+        // The Ctrl-C ended the solve; the solution so far is still rendered and written, and
+        // only a further Ctrl-C stops that.
+        stop_flag().store(false, Ordering::SeqCst);
+    }
     match (solved, &common.resume) {
+        (Err(pipeline::PipelineError::Interrupted), _) => {
+            Err(Interrupted("interrupted while meshing: wrote nothing".into()).into())
+        }
         (Err(e), Some(path)) => {
             Err(e).with_context(|| format!("{}: cannot resume", path.display()))
         }

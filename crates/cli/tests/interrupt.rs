@@ -399,3 +399,35 @@ fn an_interrupted_hierarchical_solve_resumes_to_the_same_answer() {
     );
     std::fs::remove_dir_all(&dir).expect("cleanup");
 }
+
+#[test]
+fn sigint_while_meshing_stops_at_once_and_writes_nothing() {
+    // `solids` spends ~2 s in contact and shadow refinement (0.2 s loading first); the
+    // refinements read the flag before each element.
+    let dir = scratch("sigint-meshing");
+    let mut cmd = radiosity();
+    cmd.args(["render", "solids", "-o"])
+        .arg(dir.join("out.png"))
+        .arg("--stats")
+        .arg(dir.join("stats.json"))
+        .stderr(Stdio::piped());
+    let child = cmd.spawn().expect("spawns");
+    std::thread::sleep(Duration::from_millis(700));
+    let asked = std::time::Instant::now();
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    let out = child.wait_with_output().expect("waits");
+    let latency = asked.elapsed();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(latency < Duration::from_secs(1), "{latency:?}");
+    assert_eq!(
+        stderr.lines().last(),
+        Some("interrupted while meshing: wrote nothing"),
+        "{stderr}"
+    );
+    assert!(!dir.join("out.png").exists() && !dir.join("stats.json").exists());
+    std::fs::remove_dir_all(&dir).expect("cleanup");
+}

@@ -37,11 +37,14 @@ pub enum PipelineError {
     /// The solver refused (e.g. the matrix would not fit in memory).
     #[error(transparent)]
     Solve(#[from] SolveError),
+    /// Stopped ([`Control::stop`]) while meshing, before there was anything to solve.
+    #[error("stopped while meshing")]
+    Interrupted,
     /// The requested subdivision would not fit in memory.
     #[error(
-        "the subdivision asks for {elements:.0} elements, about {} MiB, more than the limit of {} MiB: use `--solver hierarchical` (it refines on demand), lower `--elements` or raise `--max-element-area`, or raise `--max-memory`",
-        (elements * BYTES_PER_ELEMENT) / f64::from(1 << 20),
-        limit >> 20
+        "the subdivision asks for {elements:.0} elements, about {:.0} MiB, more than the limit of {:.1} MiB: use `--solver hierarchical` (it refines on demand), lower `--elements` or raise `--max-element-area`, or raise `--max-memory`",
+        (elements * BYTES_PER_ELEMENT / f64::from(1 << 20)).ceil(),
+        *limit as f64 / f64::from(1 << 20)
     )]
     TooManyElements {
         /// Elements the subdivision would make.
@@ -114,7 +117,9 @@ pub fn solve_controlled(
         return hierarchical(scene);
     }
     progress.start("meshing", 3);
-    let mesh = Mesh::build(&scene, settings.subdivision);
+    let stop = || control.stopped();
+    let mesh = Mesh::build_unless(&scene, settings.subdivision, &stop)
+        .ok_or(PipelineError::Interrupted)?;
     progress.advance(1);
     let bvh = Bvh::build(&mesh.triangles);
     progress.advance(1);
@@ -166,7 +171,9 @@ fn solve_hierarchical(
 ) -> Result<Solved, PipelineError> {
     let mut timings = Timings::default();
     progress.start("meshing", 2);
-    let mut mesh = Mesh::build(&scene, Subdivision::MaxArea(f64::INFINITY));
+    let stop = || control.stopped();
+    let mut mesh = Mesh::build_unless(&scene, Subdivision::MaxArea(f64::INFINITY), &stop)
+        .ok_or(PipelineError::Interrupted)?;
     progress.advance(1);
     let bvh = Bvh::build(&mesh.triangles);
     progress.advance(1);

@@ -61,8 +61,9 @@ const TOLERANCE: f32 = 1e-4;
 impl Mesh {
     /// Splits every element that another polygon's triangle crosses (see the module docs), and
     /// its crossed children, down to [`CONTACT_LEVELS`] more levels ([`COVER_LEVELS`] under a
-    /// hovering outline; never below [`MAX_LEVEL`]).
-    pub fn refine_contacts(&mut self, bvh: &Bvh) {
+    /// hovering outline; never below [`MAX_LEVEL`]). Gives up, leaving the mesh valid but
+    /// unfinished, once `stop` returns true.
+    pub fn refine_contacts(&mut self, bvh: &Bvh, stop: &(dyn Fn() -> bool + Sync)) {
         if self.triangles.is_empty() {
             return;
         }
@@ -86,6 +87,7 @@ impl Mesh {
                 .copied()
                 .filter(|&(n, done)| {
                     self.nodes[n as usize].level < MAX_LEVEL
+                        && !stop()
                         && done < self.touched(bvh, reach, &lights, n, done)
                 })
                 .collect();

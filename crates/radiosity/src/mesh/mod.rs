@@ -116,6 +116,17 @@ impl Mesh {
     /// Splits every polygon of `scene` into patches and subdivides them uniformly.
     #[must_use]
     pub fn build(scene: &Scene, subdivision: Subdivision) -> Self {
+        Self::build_unless(scene, subdivision, &|| false).unwrap_or_else(|| unreachable!())
+    }
+
+    /// [`Mesh::build`], abandoned (`None`) once `stop` returns true: the contact and shadow
+    /// refinements, which take seconds on large scenes, ask it before each element.
+    #[must_use]
+    pub fn build_unless(
+        scene: &Scene,
+        subdivision: Subdivision,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Option<Self> {
         let patches = patch::patches(scene);
         let targets = budget::patch_targets(&patches, subdivision);
         let mut mesh = Mesh::default();
@@ -153,11 +164,14 @@ impl Mesh {
             }
         }
         let bvh = Bvh::build(&mesh.triangles);
-        mesh.refine_contacts(&bvh);
-        mesh.refine_shadows(&bvh);
+        mesh.refine_contacts(&bvh, stop);
+        mesh.refine_shadows(&bvh, stop);
+        if stop() {
+            return None;
+        }
         mesh.mark_near_field(&bvh);
         debug_assert_eq!(mesh.validate(), Ok(()));
-        mesh
+        Some(mesh)
     }
 
     /// Subdivides node `n` uniformly down to `levels` more levels, numbering leaves depth-first.

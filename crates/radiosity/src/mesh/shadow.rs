@@ -77,8 +77,9 @@ struct Sample {
 impl Mesh {
     /// Splits every element whose direct light jumps across it (see the module docs), and its
     /// crossed children, down to [`SHADOW_LEVELS`] below its patch's uniform level (never below
-    /// [`MAX_LEVEL`]).
-    pub(super) fn refine_shadows(&mut self, bvh: &Bvh) {
+    /// [`MAX_LEVEL`]). Gives up, leaving the mesh valid but unfinished, once `stop` returns
+    /// true.
+    pub(super) fn refine_shadows(&mut self, bvh: &Bvh, stop: &(dyn Fn() -> bool + Sync)) {
         let per_element = self.elements.len().max(1) * (GRID * GRID) as usize;
         let most = (RAY_BUDGET / per_element).clamp(MIN_EMITTER_SAMPLES, EMITTER_SAMPLES);
         let samples = self.emitter_samples(most);
@@ -87,7 +88,14 @@ impl Mesh {
         }
         let b = bvh.bounds();
         let lift = OFFSET * (b.max - b.min).length();
-        let direct = |mesh: &Mesh, n: u32| mesh.direct_spread(bvh, &samples, lift, n);
+        // A stopped run measures nothing more: no jump, no split.
+        let direct = |mesh: &Mesh, n: u32| {
+            if stop() {
+                (0.0, 0.0)
+            } else {
+                mesh.direct_spread(bvh, &samples, lift, n)
+            }
+        };
         let first: Vec<(f64, f64)> = self.elements.par_iter().map(|&n| direct(self, n)).collect();
         let brightest = first.iter().map(|&(mean, _)| mean).fold(0.0, f64::max);
         if brightest <= 0.0 {

@@ -19,6 +19,28 @@ pub struct Image {
 }
 
 impl Image {
+    /// A black image of the given size, or `None` if `stopped()` turns true while it is made:
+    /// the pixels are zeroed a slice of 2²¹ at a time (a 16384² image is 6 GiB, seconds of
+    /// writing), so a stop is heard within one slice.
+    #[must_use]
+    pub fn new_unless(width: u32, height: u32, stopped: impl Fn() -> bool) -> Option<Self> {
+        const SLICE: usize = 1 << 21;
+        let n = width as usize * height as usize;
+        let mut pixels = Vec::with_capacity(n);
+        while pixels.len() < n {
+            if stopped() {
+                return None;
+            }
+            let more = SLICE.min(n - pixels.len());
+            pixels.extend(std::iter::repeat_n(Rgb::ZERO, more));
+        }
+        Some(Self {
+            width,
+            height,
+            pixels,
+        })
+    }
+
     /// A black image of the given size.
     #[must_use]
     pub fn new(width: u32, height: u32) -> Self {
@@ -66,5 +88,18 @@ mod tests {
         assert_eq!(image.get(1, 0), Rgb::ZERO);
         assert_eq!(image.mean(), Rgb::new(1.0, 0.0, 2.0));
         assert_eq!(Image::new(0, 5).mean(), Rgb::ZERO);
+    }
+
+    #[test]
+    fn an_image_made_unless_stopped_is_black_or_none() {
+        // More than one slice of pixels, so the stop is asked more than once.
+        let calls = std::cell::Cell::new(0);
+        let image = Image::new_unless(2048, 1100, || {
+            calls.set(calls.get() + 1);
+            false
+        });
+        assert_eq!(image, Some(Image::new(2048, 1100)));
+        assert_eq!(calls.get(), 2);
+        assert_eq!(Image::new_unless(2048, 1100, || true), None);
     }
 }

@@ -21,7 +21,9 @@ pub mod local;
 pub mod raster;
 pub mod raytrace;
 pub mod tonemap;
+pub mod watch;
 
 pub use camera::Projection;
 pub use image::Image;
-pub use raster::{render, RasterSettings};
+pub use raster::{render, render_watched, RasterSettings};
+pub use watch::Watch;

@@ -41,6 +41,7 @@ use rayon::prelude::*;
 
 use super::camera::Projection;
 use super::image::Image;
+use super::watch::Watch;
 use crate::mesh::LitMesh;
 use crate::scene::Camera;
 use crate::Rgb;
@@ -102,20 +103,40 @@ impl RasterSettings {
 /// skipped, missing radiosity counts as zero, a zero size gives an empty image.
 #[must_use]
 pub fn render(lit: &LitMesh, camera: &Camera, settings: &RasterSettings) -> Image {
+    render_watched(lit, camera, settings, &Watch::SILENT).unwrap_or_else(|| unreachable!())
+}
+
+/// [`render`], reporting the bands of [`BAND_ROWS`] rows done to `watch` and giving up
+/// (`None`) when its stop flag is set (read before each band: a 16384² image at 64 samples per
+/// pixel takes minutes).
+#[must_use]
+pub fn render_watched(
+    lit: &LitMesh,
+    camera: &Camera,
+    settings: &RasterSettings,
+    watch: &Watch,
+) -> Option<Image> {
     let setup = Setup::new(lit, camera, settings);
-    let mut image = Image::new(setup.width, setup.height);
+    let mut image = Image::new_unless(setup.width, setup.height, || watch.stopped())?;
     if image.pixels.is_empty() {
-        return image;
+        return Some(image);
     }
     let bins = setup.bins();
     let band_len = setup.width as usize * BAND_ROWS as usize;
+    watch.progress.start("render", bins.len() as u64);
     image
         .pixels
         .par_chunks_mut(band_len)
         .zip(bins.par_iter())
         .enumerate()
-        .for_each(|(band, (pixels, bin))| setup.shade_band(band as u32, bin, pixels));
-    image
+        .for_each(|(band, (pixels, bin))| {
+            if !watch.stopped() {
+                setup.shade_band(band as u32, bin, pixels);
+                watch.progress.advance(1);
+            }
+        });
+    watch.progress.finish();
+    (!watch.stopped()).then_some(image)
 }
 
 /// A triangle ready for scan conversion: snapped, counter-clockwise in the edge-function sense
@@ -565,6 +586,42 @@ mod tests {
                 "jitter {jitter}, spp {spp}: samples {bad:?}"
             );
         }
+    }
+
+    #[test]
+    fn a_watched_render_reports_every_band_and_stops_when_told() {
+        use crate::progress::{Progress, Silent};
+        use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+        struct Count(AtomicU64);
+        impl Progress for Count {
+            fn start(&self, stage: &str, total: u64) {
+                assert_eq!((stage, total), ("render", 4), "32 rows in bands of 8");
+            }
+            fn advance(&self, n: u64) {
+                self.0.fetch_add(n, Ordering::Relaxed);
+            }
+            fn finish(&self) {}
+        }
+        let lit = grid(&[-10.0, 16.0, 42.0], 0.0);
+        let settings = RasterSettings {
+            width: 32,
+            height: 32,
+            samples_per_pixel: 4,
+        };
+        let count = Count(AtomicU64::new(0));
+        let watch = Watch {
+            progress: &count,
+            stop: None,
+        };
+        let watched = render_watched(&lit, &axis_camera(), &settings, &watch).expect("image");
+        assert_eq!(count.0.load(Ordering::Relaxed), 4);
+        assert_eq!(watched, render(&lit, &axis_camera(), &settings));
+        let stop = AtomicBool::new(true);
+        let watch = Watch {
+            progress: &Silent,
+            stop: Some(&stop),
+        };
+        assert!(render_watched(&lit, &axis_camera(), &settings, &watch).is_none());
     }
 
     #[test]

@@ -51,11 +51,11 @@ use glam::Vec3;
 
 use self::evaluate::Evaluation;
 use self::optics::{fresnel_dielectric, reflect, refract};
-pub use self::sample::Watch;
 use self::sample::{cosine_direction, render_tiles, Sampler};
 use self::world::{SurfaceHit, World};
 use super::{Image, Projection, RasterSettings};
 use crate::mesh::{LitMesh, Mesh};
+pub use crate::render::watch::Watch;
 use crate::scene::Camera;
 use crate::{Rgb, Scene};
 

@@ -11,38 +11,12 @@
 //! the second. Cosine-weighted hemisphere directions use Malley's method: a uniform point on the
 //! unit disk, r = √u₁, φ = 2πu₂, lifted to the hemisphere, has density cos θ / π.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-
 use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::hash::mix;
-use crate::progress::{Progress, Silent};
-use crate::render::Image;
+use crate::render::{Image, Watch};
 use crate::Rgb;
-
-/// What a long render reports to and listens to: progress, in tiles, under the stage
-/// "render", and a stop flag read before every tile (a tile of a 64-ray gather takes well
-/// under a second).
-#[derive(Clone, Copy)]
-pub struct Watch<'a> {
-    /// Told of every finished tile.
-    pub progress: &'a dyn Progress,
-    /// Set (by Ctrl-C, say) to stop the render: it then returns no image.
-    pub stop: Option<&'a AtomicBool>,
-}
-
-impl Watch<'_> {
-    /// Reports nothing and never stops.
-    pub const SILENT: Watch<'static> = Watch {
-        progress: &Silent,
-        stop: None,
-    };
-
-    fn stopped(&self) -> bool {
-        self.stop.is_some_and(|s| s.load(Ordering::Relaxed))
-    }
-}
 
 /// Side of the square tiles images are rendered in parallel over.
 const TILE: u32 = 16;
@@ -199,7 +173,8 @@ mod tests {
 
     #[test]
     fn a_set_stop_flag_gives_no_image_and_every_tile_is_reported() {
-        use std::sync::atomic::AtomicU64;
+        use crate::progress::{Progress, Silent};
+        use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
         struct Count(AtomicU64);
         impl Progress for Count {
             fn start(&self, stage: &str, total: u64) {

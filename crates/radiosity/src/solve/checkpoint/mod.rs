@@ -535,11 +535,27 @@ mod tests {
 
     #[test]
     fn stopped_before_the_matrix_gathering_returns_the_emission() {
+        // Stopped before anything: the meshing gives up, with nothing to show.
         let control = Control {
             stop: Some(Arc::new(AtomicBool::new(true))),
             ..Control::default()
         };
-        let solved = run(&settings(Method::GaussSeidel, 1), &control).expect("solves");
+        let err = run(&settings(Method::GaussSeidel, 1), &control).expect_err("stops");
+        assert!(matches!(err, PipelineError::Interrupted), "{err}");
+        // Stopped after the first chunk of form factors: B = E.
+        let flag = Arc::new(AtomicBool::new(false));
+        let control = Control {
+            stop: Some(Arc::clone(&flag)),
+            ..Control::default()
+        };
+        let progress = StopAfter {
+            at: 1,
+            done: 0.into(),
+            flag,
+        };
+        let scene = builtin::load("cornell").expect("built in").expect("loads");
+        let s = settings(Method::GaussSeidel, 1);
+        let solved = pipeline::solve_controlled(scene, &s, &control, &progress).expect("solves");
         assert!(solved.solution.interrupted);
         assert_eq!(solved.solution.iterations, 0);
         let emission: Vec<Rgb> = (0..solved.mesh.element_count())
