@@ -106,6 +106,17 @@ pub fn run(args: &CompareArgs) -> Result<()> {
             samples_per_pixel: args.samples,
         };
         let solved = job::run_solve(scene, common)?;
+        if solved.solution.interrupted {
+            // Three renders, one of them possibly ray-traced: after a Ctrl-C the run ends now.
+            let outputs = job::Outputs {
+                batch: Batch::new(),
+                start,
+                load_seconds: load,
+                render_seconds: 0.0,
+            };
+            job::say(common, "not rendered: the solve was interrupted");
+            return job::finish(&solved, common, None, outputs);
+        }
         let render_start = Instant::now();
         let mut modes = vec![("local", Mode::Local), ("radiosity", Mode::Radiosity)];
         if raytrace::has_specular(&solved.scene) {

@@ -143,24 +143,32 @@ fn render_job(args: &RenderArgs) -> Result<()> {
     let solved = run_solve(scene, common)?;
 
     let render_start = Instant::now();
-    let image = compare::render_mode(
-        &solved,
-        &camera,
-        args.mode,
-        &raster,
-        args.gather,
-        !args.no_shadows,
-        common.quiet,
-    )?;
-    let exposure = args
-        .exposure
-        .unwrap_or_else(|| tonemap::auto_exposure(&image));
     let mut batch = Batch::new();
-    for path in &outputs {
-        if may_write(path, &solved, common) {
-            stage(&mut batch, path, |tmp| {
-                Ok(write_image(tmp, &image, exposure)?)
-            })?;
+    if solved.solution.interrupted && args.mode != Mode::Radiosity {
+        // A ray-traced picture takes seconds to minutes: after a Ctrl-C the run ends now.
+        say(
+            common,
+            "not rendered: the solve was interrupted (the stats and exports hold the solution              so far; --mode radiosity pictures it at once)",
+        );
+    } else {
+        let image = compare::render_mode(
+            &solved,
+            &camera,
+            args.mode,
+            &raster,
+            args.gather,
+            !args.no_shadows,
+            common.quiet,
+        )?;
+        let exposure = args
+            .exposure
+            .unwrap_or_else(|| tonemap::auto_exposure(&image));
+        for path in &outputs {
+            if may_write(path, &solved, common) {
+                stage(&mut batch, path, |tmp| {
+                    Ok(write_image(tmp, &image, exposure)?)
+                })?;
+            }
         }
     }
     let render_seconds = render_start.elapsed().as_secs_f64();

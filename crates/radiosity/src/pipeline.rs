@@ -148,7 +148,7 @@ pub fn solve_controlled(
     )?;
     timings.form_factors = solution.form_factor_seconds;
     timings.solve = solution.solve_seconds;
-    let absorbed = absorbed_power(&geometry, form_factors.as_ref(), &solution);
+    let absorbed = absorbed_power(&mesh, &solution);
 
     let lit = display::lit_mesh(&mesh, &solution.radiosity);
     Ok(Solved {
@@ -197,17 +197,11 @@ fn solve_hierarchical(
         .iter()
         .map(|&n| run.node_radiosity[n as usize])
         .collect();
-    // Σ A (1 − ρ) H with the irradiance each element gathered.
-    let absorbed = (0..mesh.element_count())
-        .map(|e| {
-            let rho = mesh.element_patch(e).reflectance;
-            mesh.element(e).face.area() * (Rgb::ONE - rho) * run.irradiance[e]
-        })
-        .sum();
     timings.form_factors = run.refine_seconds;
     timings.solve = run.solve_seconds;
     let solution = Solution {
         radiosity,
+        irradiance: run.irradiance,
         method: solve::Method::Hierarchical,
         iterations: run.iterations,
         residual: run.residual,
@@ -219,6 +213,7 @@ fn solve_hierarchical(
         history: run.history,
         interrupted: run.interrupted,
     };
+    let absorbed = absorbed_power(&mesh, &solution);
     let lit = display::lit_mesh(&mesh, &solution.radiosity);
     Ok(Solved {
         scene,
@@ -277,51 +272,23 @@ fn choose_method(mesh: &Mesh, settings: &Settings) -> (solve::Method, usize, usi
     }
 }
 
-/// Σ_e A_e (1 − ρ_e) H_e. The irradiance follows from the solution as H = (B − E)/ρ; where a
-/// channel's ρ is zero that says nothing, so the element gathers H = Σ_s F_es B_s directly.
-fn absorbed_power(
-    geometry: &Geometry,
-    form_factors: &dyn formfactor::FormFactors,
-    solution: &Solution,
-) -> Rgb {
-    let mesh = geometry.mesh;
-    let source_radiosity: Vec<Rgb> = geometry
-        .sources
-        .iter()
-        .map(|&s| {
-            let range = mesh.nodes[s as usize].elements.clone();
-            let (mut power, mut area) = (Rgb::ZERO, 0.0);
-            for e in range {
-                let a = mesh.element(e as usize).face.area();
-                power += a * solution.radiosity[e as usize];
-                area += a;
-            }
-            power / area.max(f64::MIN_POSITIVE)
-        })
-        .collect();
-    let mut row = vec![0.0; geometry.sources.len()];
-    let mut total = Rgb::ZERO;
-    for e in 0..mesh.element_count() {
-        let patch = mesh.element_patch(e);
-        let area = mesh.element(e).face.area();
-        let rho = patch.reflectance;
-        let mut h = (solution.radiosity[e] - patch.emission) / rho;
-        if rho.min_element() <= 0.0 {
-            form_factors.row(geometry, e, &mut row);
-            let gathered: Rgb = row
-                .iter()
-                .zip(&source_radiosity)
-                .map(|(&f, &b)| f64::from(f) * b)
-                .sum();
+/// Σ_e A_e (1 − ρ_e) H_e. Where ρ > 0 the irradiance follows from the solution as
+/// H = (B − E)/ρ; where a channel's ρ is zero that says nothing, and the irradiance the solver
+/// gathered ([`Solution::irradiance`]) is used.
+fn absorbed_power(mesh: &Mesh, solution: &Solution) -> Rgb {
+    (0..mesh.element_count())
+        .map(|e| {
+            let patch = mesh.element_patch(e);
+            let rho = patch.reflectance;
+            let mut h = (solution.radiosity[e] - patch.emission) / rho;
             for c in 0..3 {
                 if rho[c] <= 0.0 {
-                    h[c] = gathered[c];
+                    h[c] = solution.irradiance[e][c];
                 }
             }
-        }
-        total += area * (Rgb::ONE - rho) * h;
-    }
-    total
+            mesh.element(e).face.area() * (Rgb::ONE - rho) * h
+        })
+        .sum()
 }
 
 impl Solved {

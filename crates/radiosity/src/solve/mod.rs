@@ -137,6 +137,9 @@ impl Default for Settings {
 pub struct Solution {
     /// Radiosity B per element, W·m⁻² per channel (progressive: without the ambient term).
     pub radiosity: Vec<Rgb>,
+    /// Irradiance H per element, the light each element gathered (B = E + ρH): what the
+    /// absorbed power Σ A (1 − ρ) H is made of, also where ρ = 0 says nothing of it.
+    pub irradiance: Vec<Rgb>,
     /// The solver used.
     pub method: Method,
     /// Sweeps (gathering) or shots (progressive) done.
@@ -228,6 +231,7 @@ pub fn solve_controlled(
     let mut system = System::new(g)?;
     let mut solution = Solution {
         radiosity: system.emission.clone(),
+        irradiance: vec![Rgb::ZERO; system.area.len()],
         method: settings.method,
         iterations: 0,
         residual: 0.0,
@@ -284,6 +288,7 @@ pub fn solve_controlled(
                 gauss_seidel::run(&system, &matrix, settings, &mut session, progress)
             };
             progress.finish();
+            solution.irradiance = system.irradiance(&matrix, &run.radiosity);
             solution.radiosity = run.radiosity;
             solution.iterations = run.iterations;
             solution.residual = run.residual;
@@ -301,6 +306,22 @@ pub fn solve_controlled(
                 .iter()
                 .map(|&n| run.node_radiosity[n as usize])
                 .collect();
+            // The area-weighted mean of the refined elements below each given element.
+            solution.irradiance = g
+                .mesh
+                .elements
+                .iter()
+                .map(|&n| {
+                    let range = mesh.nodes[n as usize].elements.clone();
+                    let (mut power, mut area) = (Rgb::ZERO, 0.0);
+                    for e in range {
+                        let a = mesh.element(e as usize).face.area();
+                        power += a * run.irradiance[e as usize];
+                        area += a;
+                    }
+                    power / area.max(f64::MIN_POSITIVE)
+                })
+                .collect();
             solution.iterations = run.iterations;
             solution.residual = run.residual;
             solution.history = run.history;
@@ -317,6 +338,7 @@ pub fn solve_controlled(
             let run = progressive::run(&system, g, ff, settings, &mut session, progress);
             progress.finish();
             solution.radiosity = run.radiosity;
+            solution.irradiance = run.irradiance;
             solution.iterations = run.iterations;
             solution.residual = run.residual;
             solution.history = run.history;
@@ -401,6 +423,16 @@ impl System {
         };
         system.weigh_sources();
         Ok(system)
+    }
+
+    /// H_e = Σ_s F_es B̄_s for every element, with the source means of `b`: the light each
+    /// element gathers from the solution `b` through the matrix the solve used.
+    fn irradiance(&self, matrix: &matrix::Matrix, b: &[Rgb]) -> Vec<Rgb> {
+        let mut means = vec![Rgb::ZERO; self.source_area.len()];
+        self.source_means(b, &mut means);
+        (0..b.len())
+            .map(|e| jacobi::gather(matrix.row(e), &means))
+            .collect()
     }
 
     /// The open area and hidden emission of every source, from the elements' exposure.

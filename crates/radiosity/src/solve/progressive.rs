@@ -38,6 +38,8 @@ use crate::Rgb;
 /// What a progressive solve returns.
 pub(super) struct Shots {
     pub radiosity: Vec<Rgb>,
+    /// Σ over the shots of F_es ΔB_s: the light each element received.
+    pub irradiance: Vec<Rgb>,
     pub iterations: usize,
     pub residual: f64,
     pub links: u64,
@@ -60,12 +62,19 @@ pub(super) fn run(
     progress: &dyn Progress,
 ) -> Shots {
     let n = system.area.len();
-    let (mut b, mut unshot, mut iterations, mut links) = match session.resume() {
-        Some(it) => (it.radiosity, it.unshot, it.iterations, it.links),
+    let (mut b, mut h, mut unshot, mut iterations, mut links) = match session.resume() {
+        Some(it) => (
+            it.radiosity,
+            it.irradiance,
+            it.unshot,
+            it.iterations,
+            it.links,
+        ),
         None => {
             let mut unshot = vec![Rgb::ZERO; system.source_area.len()];
             system.source_means(&system.emission, &mut unshot);
-            (system.emission.clone(), unshot, 0, 0u64)
+            let h = vec![Rgb::ZERO; n];
+            (system.emission.clone(), h, unshot, 0, 0u64)
         }
     };
     let mut column = vec![0.0f32; n];
@@ -79,11 +88,12 @@ pub(super) fn run(
     };
     let mut residual = unshot_power(&unshot) / system.emitted;
     let (started, mut history, mut interrupted) = (Instant::now(), Vec::new(), false);
-    let state = |b: &[Rgb], unshot: &[Rgb], iterations, residual, links| Iterate {
+    let state = |b: &[Rgb], h: &[Rgb], unshot: &[Rgb], iterations, residual, links| Iterate {
         iterations,
         residual,
         links,
         radiosity: b.to_vec(),
+        irradiance: h.to_vec(),
         unshot: unshot.to_vec(),
         hierarchy: None,
     };
@@ -110,7 +120,9 @@ pub(super) fn run(
                 continue;
             }
             links += 1;
-            let delta = system.reflectance[e] * shoot * f64::from(f);
+            let received = shoot * f64::from(f);
+            h[e] += received;
+            let delta = system.reflectance[e] * received;
             b[e] += delta;
             let r = system.source_of[e] as usize;
             if system.source_area[r] > 0.0 {
@@ -121,13 +133,16 @@ pub(super) fn run(
         iterations += 1;
         history.push((iterations, started.elapsed().as_secs_f64(), residual));
         progress.advance(1);
-        session.after_iteration(false, || state(&b, &unshot, iterations, residual, links));
+        session.after_iteration(false, || {
+            state(&b, &h, &unshot, iterations, residual, links)
+        });
     }
     if interrupted {
-        session.after_iteration(true, || state(&b, &unshot, iterations, residual, links));
+        session.after_iteration(true, || state(&b, &h, &unshot, iterations, residual, links));
     }
     Shots {
         radiosity: b,
+        irradiance: h,
         iterations,
         residual,
         links,

@@ -4,7 +4,7 @@
 //! ```text
 //! magic "radiosity-ckpt\n\0"  format u32 (= 2)
 //! fingerprint u64   method (length u64, UTF-8)   iterations u64   residual f64   links u64
-//! radiosity (count u64, then r g b f64 each)     unshot (the same)
+//! radiosity (count u64, then r g b f64 each)     irradiance, unshot (the same)
 //! matrix:    0u8 | 1u8, sources u64, rows u64, chunk rows u64, done u8 per chunk,
 //!            then the f32 rows of every done chunk, in order
 //! hierarchy: 0u8 | 1u8, then the hierarchical solver's snapshot
@@ -42,6 +42,7 @@ impl Checkpoint {
         e.f64(self.residual)?;
         e.u64(self.links)?;
         e.rgbs(&self.radiosity)?;
+        e.rgbs(&self.irradiance)?;
         e.rgbs(&self.unshot)?;
         match &self.matrix {
             None => e.u8(0)?,
@@ -80,7 +81,7 @@ impl Checkpoint {
         let fingerprint = d.u64()?;
         let method = String::from_utf8(d.bytes()?).map_err(|_| "damaged checkpoint")?;
         let (iterations, residual, links) = (d.usize()?, d.f64()?, d.u64()?);
-        let (radiosity, unshot) = (d.rgbs()?, d.rgbs()?);
+        let (radiosity, irradiance, unshot) = (d.rgbs()?, d.rgbs()?, d.rgbs()?);
         let matrix = match d.u8()? {
             0 => None,
             1 => Some(read_matrix(&mut d)?),
@@ -102,6 +103,7 @@ impl Checkpoint {
             residual,
             links,
             radiosity,
+            irradiance,
             unshot,
             matrix,
             hierarchy,

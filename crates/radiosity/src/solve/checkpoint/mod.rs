@@ -22,7 +22,8 @@
 //!   - the gathering solvers: B, the iteration count and **the form-factor rows computed so
 //!     far** (all of them once the matrix is complete), so a resumed run computes only the
 //!     missing rows; each row depends on its element only;
-//!   - progressive refinement: B, the unshot radiosity per source and the link count;
+//!   - progressive refinement: B, the irradiance received, the unshot radiosity per source
+//!     and the link count;
 //!   - hierarchical radiosity: the refinement replayed (the leaves split, in order), the links,
 //!     and the push-pull state of every node and cluster, at the last whole pass.
 //!
@@ -112,6 +113,8 @@ pub struct Checkpoint {
     links: u64,
     /// B per element (gathering and progressive solvers).
     radiosity: Vec<Rgb>,
+    /// Irradiance gathered so far per element (progressive; empty otherwise).
+    irradiance: Vec<Rgb>,
     /// Unshot radiosity per source (progressive; empty otherwise).
     unshot: Vec<Rgb>,
     /// The form-factor rows computed so far (gathering solvers).
@@ -127,6 +130,7 @@ pub(super) struct Iterate {
     pub residual: f64,
     pub links: u64,
     pub radiosity: Vec<Rgb>,
+    pub irradiance: Vec<Rgb>,
     pub unshot: Vec<Rgb>,
     pub hierarchy: Option<Snapshot>,
 }
@@ -153,6 +157,7 @@ impl Checkpoint {
             residual: it.residual,
             links: it.links,
             radiosity: it.radiosity,
+            irradiance: it.irradiance,
             unshot: it.unshot,
             matrix: session.matrix.clone(),
             hierarchy: it.hierarchy,
@@ -165,6 +170,7 @@ impl Checkpoint {
             residual: self.residual,
             links: self.links,
             radiosity: self.radiosity.clone(),
+            irradiance: self.irradiance.clone(),
             unshot: self.unshot.clone(),
             hierarchy: self.hierarchy.clone(),
         }
@@ -238,10 +244,10 @@ impl<'a> Session<'a> {
                 ));
             }
             let hierarchical = method == Method::Hierarchical;
-            let (radiosity, unshot) = match method {
-                Method::Hierarchical => (0, 0),
-                Method::Progressive => (problem.elements, problem.sources),
-                Method::Jacobi | Method::GaussSeidel => (problem.elements, 0),
+            let (radiosity, irradiance, unshot) = match method {
+                Method::Hierarchical => (0, 0, 0),
+                Method::Progressive => (problem.elements, problem.elements, problem.sources),
+                Method::Jacobi | Method::GaussSeidel => (problem.elements, 0, 0),
             };
             let matrix_fits = cp
                 .matrix
@@ -249,6 +255,7 @@ impl<'a> Session<'a> {
                 .is_none_or(|m| m.shape() == (problem.elements, problem.sources));
             if cp.fingerprint != problem.fingerprint
                 || cp.radiosity.len() != radiosity
+                || cp.irradiance.len() != irradiance
                 || cp.unshot.len() != unshot
                 || !matrix_fits
                 || cp.hierarchy.is_some() != hierarchical
