@@ -310,7 +310,7 @@ pub struct CommonArgs {
     /// [default: 8192]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     pub sources: Option<u64>,
-    /// Cells along a full edge of a hemicube (hemicube form factors).
+    /// Cells along a full edge of a hemicube (hemicube form factors) [default: 128]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(2..=4096))]
     pub hemicube_resolution: Option<u32>,
     /// Quadrature points per receiver element, as an N × N grid (ray-cast and analytic form
@@ -339,7 +339,7 @@ pub struct CommonArgs {
     /// powers of 1024; e.g. 512M, 2G). Default: 1 GiB for the matrix, 8 GiB for the image.
     #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
     pub max_memory: Option<u64>,
-    /// Seed of the random sampling (ray-cast form factors).
+    /// Seed of the random sampling (ray-cast form factors) [default: 0]
     #[arg(long)]
     pub seed: Option<u64>,
     /// Leave a scene without emitters unlit (black) instead of lighting it by the default sky:

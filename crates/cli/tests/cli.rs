@@ -707,3 +707,56 @@ fn a_failing_output_leaves_none_of_the_outputs() {
     assert_eq!(fs::read(dir.join("out.png")).expect("read"), b"earlier");
     fs::remove_dir_all(&dir).expect("cleanup");
 }
+
+#[test]
+fn help_states_every_default() {
+    // Every option that has a default says it, in clap's "[default: …]" or in its own words
+    // ("default: …", "default …"); options without one (paths, flags, views) are listed.
+    let without_default = [
+        "--output",
+        "--camera",
+        "--eye",
+        "--target",
+        "--up",
+        "--fov",
+        "--stats",
+        "--plot",
+        "--export",
+        "--max-element-area",
+        "--checkpoint",
+        "--resume",
+        "--threads",
+        "--quiet",
+        "--write-partial",
+        "--no-shadows",
+        "--no-default-light",
+        "--help",
+        "--version",
+    ];
+    let out = run(Path::new("."), &["render", "--help"]);
+    let help = String::from_utf8_lossy(&out.stdout);
+    // Each option's block runs from its line to the next option's.
+    let mut blocks: Vec<(String, String)> = Vec::new();
+    for line in help.lines() {
+        let t = line.trim_start();
+        if t.starts_with('-') && line.starts_with("  ") && !line.starts_with("          ") {
+            let name = t
+                .split([' ', ','])
+                .find(|w| w.starts_with("--"))
+                .unwrap_or("")
+                .to_owned();
+            blocks.push((name, String::new()));
+        } else if let Some((_, text)) = blocks.last_mut() {
+            text.push_str(line);
+            text.push('\n');
+        }
+    }
+    assert!(blocks.len() > 30, "{help}");
+    for (name, text) in &blocks {
+        if without_default.contains(&name.as_str()) {
+            continue;
+        }
+        let states = text.to_lowercase().contains("default");
+        assert!(states, "{name} does not state its default:\n{text}");
+    }
+}
