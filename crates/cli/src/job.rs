@@ -289,8 +289,25 @@ pub(crate) fn run_solve(scene: Scene, common: &CommonArgs) -> Result<Solved> {
         (Err(e), Some(path)) => {
             Err(e).with_context(|| format!("{}: cannot resume", path.display()))
         }
-        (solved, _) => Ok(solved?),
+        (Err(e), None) => Err(with_flags(e)),
+        (Ok(solved), _) => Ok(solved),
     }
+}
+
+/// The engine's error with the flags that get around it (the engine names its settings; the
+/// command line knows its flags).
+fn with_flags(e: pipeline::PipelineError) -> anyhow::Error {
+    use radiosity::solve::SolveError;
+    let advice = match &e {
+        pipeline::PipelineError::Solve(SolveError::MatrixTooLarge { .. }) => {
+            "use `--solver hierarchical` (scales to millions of elements), `--solver progressive` (no stored matrix) or raise `--max-memory`"
+        }
+        pipeline::PipelineError::TooManyElements { .. } => {
+            "use `--solver hierarchical` (it refines on demand), lower `--elements` or raise `--max-element-area`, or raise `--max-memory`"
+        }
+        _ => return e.into(),
+    };
+    anyhow::anyhow!("{e}: {advice}")
 }
 
 /// A job stopped by Ctrl-C, with the line that says what it wrote: `main` prints it and exits

@@ -42,7 +42,7 @@ pub enum PipelineError {
     Interrupted,
     /// The requested subdivision would not fit in memory.
     #[error(
-        "the subdivision asks for {elements:.0} elements, about {:.0} MiB, more than the limit of {:.1} MiB: use `--solver hierarchical` (it refines on demand), lower `--elements` or raise `--max-element-area`, or raise `--max-memory`",
+        "the subdivision asks for {elements:.0} elements, about {:.0} MiB, more than the limit of {:.1} MiB",
         (elements * BYTES_PER_ELEMENT / f64::from(1 << 20)).ceil(),
         *limit as f64 / f64::from(1 << 20)
     )]

@@ -9,7 +9,13 @@
 //! left panel (Cohen et al. 1988, Fig. 5 draws the same comparison).
 //!
 //! ```
-//! let svg = radiosity::plot::convergence_svg("cornell", &[(1, 0.1, 0.5), (2, 0.2, 0.05)]);
+//! use radiosity::solve::Sample;
+//! let history = [(1, 0.1, 0.5), (2, 0.2, 0.05)].map(|(iteration, seconds, residual)| Sample {
+//!     iteration,
+//!     seconds,
+//!     residual,
+//! });
+//! let svg = radiosity::plot::convergence_svg("cornell", &history);
 //! assert!(svg.starts_with("<svg") && svg.contains("<polyline"));
 //! ```
 
@@ -18,21 +24,22 @@ use std::io;
 use std::path::Path;
 
 use crate::io::atomic::write_atomic;
+use crate::solve::Sample;
 
 /// Width and height of the whole picture, in SVG user units (pixels).
 const SIZE: (f64, f64) = (800.0, 360.0);
 /// Margins of a panel: left, right, top, bottom.
 const MARGIN: (f64, f64, f64, f64) = (64.0, 16.0, 40.0, 48.0);
 
-/// The SVG document of a convergence history of (iteration, seconds, residual) points. Points
-/// with a residual that is not positive and finite are left out (a logarithmic axis cannot
-/// show them); an empty history gives the axes and a note.
+/// The SVG document of a convergence history. Samples with a residual that is not positive
+/// and finite are left out (a logarithmic axis cannot show them); an empty history gives the
+/// axes and a note.
 #[must_use]
-pub fn convergence_svg(title: &str, history: &[(usize, f64, f64)]) -> String {
+pub fn convergence_svg(title: &str, history: &[Sample]) -> String {
     let points: Vec<(f64, f64, f64)> = history
         .iter()
-        .filter(|p| p.2.is_finite() && p.2 > 0.0 && p.1.is_finite())
-        .map(|&(k, t, r)| (k as f64, t, r.log10()))
+        .filter(|p| p.residual.is_finite() && p.residual > 0.0 && p.seconds.is_finite())
+        .map(|p| (p.iteration as f64, p.seconds, p.residual.log10()))
         .collect();
     let (mut lo, mut hi) = points
         .iter()
@@ -137,11 +144,7 @@ pub fn convergence_svg(title: &str, history: &[(usize, f64, f64)]) -> String {
 ///
 /// # Errors
 /// I/O errors.
-pub fn write_convergence_svg(
-    path: &Path,
-    title: &str,
-    history: &[(usize, f64, f64)],
-) -> io::Result<()> {
+pub fn write_convergence_svg(path: &Path, title: &str, history: &[Sample]) -> io::Result<()> {
     let svg = convergence_svg(title, history);
     write_atomic(path, |w| w.write_all(svg.as_bytes()))
 }
@@ -174,7 +177,11 @@ mod tests {
     fn geometric_decay_is_a_straight_line_on_the_log_axis() {
         // r_k = 10^-k: equal steps down per iteration, from the top decade to the bottom.
         let history: Vec<_> = (1..=4)
-            .map(|k| (k, 0.5 * k as f64, 10f64.powi(-(k as i32))))
+            .map(|k| Sample {
+                iteration: k,
+                seconds: 0.5 * k as f64,
+                residual: 10f64.powi(-(k as i32)),
+            })
             .collect();
         let svg = convergence_svg("box", &history);
         let pts = polyline(&svg);
@@ -191,7 +198,12 @@ mod tests {
 
     #[test]
     fn odd_input_still_gives_a_document() {
-        let svg = convergence_svg("a<b&c", &[(1, f64::NAN, 0.0), (2, 1.0, -1.0)]);
+        let sample = |iteration, seconds, residual| Sample {
+            iteration,
+            seconds,
+            residual,
+        };
+        let svg = convergence_svg("a<b&c", &[sample(1, f64::NAN, 0.0), sample(2, 1.0, -1.0)]);
         assert!(svg.contains("a&lt;b&amp;c"));
         assert!(!svg.contains("<polyline"));
         assert!(svg.contains("no iterations recorded"));

@@ -63,7 +63,11 @@ pub(super) fn sweeps(
         system.source_means(&b, &mut means);
         residual = sweep(&mut b, &mut means);
         iterations += 1;
-        history.push((iterations, start.elapsed().as_secs_f64(), residual));
+        history.push(super::Sample {
+            iteration: iterations,
+            seconds: start.elapsed().as_secs_f64(),
+            residual,
+        });
         progress.advance(1);
         session.after_iteration(false, || iterate(&b, iterations, residual));
     }

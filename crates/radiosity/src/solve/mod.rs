@@ -132,6 +132,17 @@ impl Default for Settings {
     }
 }
 
+/// One point of a solve's convergence history.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// Sweeps, shots or gather iterations done.
+    pub iteration: usize,
+    /// Seconds since the iterations began.
+    pub seconds: f64,
+    /// The residual after them (the module documentation's definition).
+    pub residual: f64,
+}
+
 /// The result of a solve.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solution {
@@ -158,9 +169,8 @@ pub struct Solution {
     pub solve_seconds: f64,
     /// The hierarchical solver's links, levels and memory (`None` for the others).
     pub hierarchy: Option<crate::stats::HierarchyStats>,
-    /// Convergence: (iteration, seconds since the iterations began, residual) after each
-    /// sweep or shot (empty when the solver does not record it).
-    pub history: Vec<(usize, f64, f64)>,
+    /// Convergence: a [`Sample`] after each sweep, shot or gather iteration.
+    pub history: Vec<Sample>,
     /// Whether the solve was stopped (see [`checkpoint::Control::stop`]) before it converged:
     /// the radiosity is then the last iterate, or E when the form factors were not complete.
     pub interrupted: bool,
@@ -171,7 +181,7 @@ pub struct Solution {
 pub enum SolveError {
     /// The stored form-factor matrix would exceed the memory limit.
     #[error(
-        "the form-factor matrix needs {} MiB, more than the limit of {} MiB: use `--solver hierarchical` (scales to millions of elements), `--solver progressive` (no stored matrix) or raise `--max-memory`",
+        "the form-factor matrix needs {} MiB, more than the limit of {} MiB (max_matrix_bytes)",
         mib(*bytes),
         mib(*limit)
     )]
@@ -357,8 +367,8 @@ pub(crate) struct Run {
     radiosity: Vec<Rgb>,
     iterations: usize,
     residual: f64,
-    /// (iteration, seconds, residual) after each sweep.
-    history: Vec<(usize, f64, f64)>,
+    /// A sample after each sweep.
+    history: Vec<Sample>,
     /// Whether the session was stopped before convergence.
     interrupted: bool,
 }
@@ -592,14 +602,16 @@ mod tests {
     }
 
     #[test]
-    fn matrix_error_names_the_alternatives() {
+    fn matrix_error_names_the_sizes_and_the_setting() {
         let e = SolveError::MatrixTooLarge {
             bytes: 3 << 30,
             limit: 1 << 30,
         };
         let msg = e.to_string();
-        assert!(msg.contains("--solver progressive") && msg.contains("--max-memory"));
-        assert!(msg.contains("--solver hierarchical"), "{msg}");
+        assert!(
+            msg.contains("max_matrix_bytes") && !msg.contains("--"),
+            "{msg}"
+        );
         assert!(
             msg.contains("3072 MiB") && msg.contains("1024 MiB"),
             "{msg}"

@@ -45,8 +45,8 @@ pub(super) struct Shots {
     pub links: u64,
     pub ambient: Rgb,
     pub form_factor_seconds: f64,
-    /// (shot, seconds, unshot fraction) after each shot.
-    pub history: Vec<(usize, f64, f64)>,
+    /// A sample after each shot (the residual: the unshot fraction).
+    pub history: Vec<super::Sample>,
     /// Whether the session was stopped before convergence.
     pub interrupted: bool,
 }
@@ -131,7 +131,11 @@ pub(super) fn run(
         }
         residual = unshot_power(&unshot) / system.emitted;
         iterations += 1;
-        history.push((iterations, started.elapsed().as_secs_f64(), residual));
+        history.push(super::Sample {
+            iteration: iterations,
+            seconds: started.elapsed().as_secs_f64(),
+            residual,
+        });
         progress.advance(1);
         session.after_iteration(false, || {
             state(&b, &h, &unshot, iterations, residual, links)

@@ -49,7 +49,7 @@ use std::time::Instant;
 pub use snapshot::Snapshot;
 
 use super::checkpoint::{Control, Iterate, Problem, Session};
-use super::{Method, SolveError};
+use super::{Method, Sample, SolveError};
 use crate::accel::Bvh;
 use crate::mesh::{Mesh, Node};
 use crate::progress::Progress;
@@ -103,7 +103,7 @@ pub struct Outcome {
     /// (iteration, seconds since the start, residual) after every gather iteration, over all
     /// stages — the order of every other solver's history and of [`crate::plot`] —: the
     /// residual jumps up where a stage's refinement changed the links.
-    pub history: Vec<(usize, f64, f64)>,
+    pub history: Vec<Sample>,
     /// Whether `control` stopped the run before it finished: the radiosity is then the last
     /// iterate on the links refined so far (push-pull keeps it consistent at every step).
     pub interrupted: bool,
@@ -200,7 +200,7 @@ pub fn run(
         (out.iterations, out.residual) = (it.iterations, it.residual);
         (out.refine_seconds, out.solve_seconds) = snap.seconds;
         out.history.clone_from(&snap.history);
-        clock = snap.history.last().map_or(0.0, |h| h.1);
+        clock = snap.history.last().map_or(0.0, |h| h.seconds);
         done = snap.passes;
         last = Some((snap, it.iterations, it.residual));
     }
@@ -281,7 +281,11 @@ pub fn run(
             out.iterations += 1;
             out.residual = change / emitted;
             let seconds = clock + began.elapsed().as_secs_f64();
-            out.history.push((out.iterations, seconds, out.residual));
+            out.history.push(Sample {
+                iteration: out.iterations,
+                seconds,
+                residual: out.residual,
+            });
             if out.residual < settings.tolerance {
                 break;
             }

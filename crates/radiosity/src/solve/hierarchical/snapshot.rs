@@ -9,6 +9,7 @@
 use super::link::Link;
 use super::push_pull::{Directional, State};
 use crate::solve::checkpoint::file::{allocate, Decoder, Encoder};
+use crate::solve::Sample;
 use crate::Rgb;
 
 /// See the module documentation.
@@ -23,7 +24,7 @@ pub struct Snapshot {
     /// B, irradiance and the clusters' directional sums (node areas empty).
     pub(super) state: State,
     /// The convergence history so far.
-    pub(super) history: Vec<(usize, f64, f64)>,
+    pub(super) history: Vec<Sample>,
     /// Seconds spent refining and iterating so far.
     pub(super) seconds: (f64, f64),
     /// Peak bytes of the hierarchy so far.
@@ -48,10 +49,10 @@ impl Snapshot {
         e.rgbs(&s.cluster_h)?;
         directional(e, &s.cluster_q)?;
         e.usize(self.history.len())?;
-        for &(i, t, r) in &self.history {
-            e.usize(i)?;
-            e.f64(t)?;
-            e.f64(r)?;
+        for s in &self.history {
+            e.usize(s.iteration)?;
+            e.f64(s.seconds)?;
+            e.f64(s.residual)?;
         }
         e.f64(self.seconds.0)?;
         e.f64(self.seconds.1)?;
@@ -83,7 +84,11 @@ impl Snapshot {
         let n = d.usize()?;
         let mut history = allocate(n)?;
         for _ in 0..n {
-            history.push((d.usize()?, d.f64()?, d.f64()?));
+            history.push(Sample {
+                iteration: d.usize()?,
+                seconds: d.f64()?,
+                residual: d.f64()?,
+            });
         }
         Ok(Self {
             passes,
