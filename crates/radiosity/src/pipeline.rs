@@ -11,8 +11,7 @@ use crate::formfactor::{self, Geometry};
 use crate::mesh::{display, LitMesh, Mesh, Subdivision};
 use crate::progress::Progress;
 use crate::solve::checkpoint::{hash_text, Control};
-use crate::solve::matrix::Matrix;
-use crate::solve::{self, hierarchical, Solution, SolveError};
+use crate::solve::{self, hierarchical, plan, Solution, SolveError};
 use crate::stats::{Aggregate, Energy, SolverStats, Stats, Timings};
 use crate::{Rgb, Scene};
 
@@ -23,11 +22,9 @@ pub struct Settings {
     pub subdivision: Subdivision,
     /// How form factors are computed.
     pub form_factors: formfactor::Settings,
-    /// Solver, tolerance and resource limits. The method `None` means automatic: gathering
-    /// (Gauss-Seidel) with as many sources as the memory budget allows, and hierarchical
-    /// radiosity when too few sources would fit (see `gathering_fits`).
+    /// Solver, tolerance and resource limits (its `method` is not read: see `method`).
     pub solve: solve::Settings,
-    /// The solver method, or `None` for the automatic choice.
+    /// The solver method, or `None` for the automatic choice ([`plan`]).
     pub method: Option<solve::Method>,
 }
 
@@ -107,13 +104,23 @@ pub fn solve_controlled(
     // Hierarchical radiosity refines from the root faces by its own oracle: the requested
     // uniform subdivision does not apply to it.
     let hierarchical = |scene| solve_hierarchical(scene, settings, control, progress, start);
+    let problem = |elements: f64, meshed: bool| plan::Problem {
+        requested: settings.method,
+        roots,
+        elements,
+        meshed,
+        sources: settings.solve.max_sources,
+        matrix_bytes: limit,
+    };
+    // A subdivision beyond memory is refused, unless hierarchical radiosity was asked for
+    // (it does not subdivide uniformly).
     if settings.method == Some(solve::Method::Hierarchical) {
         return hierarchical(scene);
     }
     if elements * BYTES_PER_ELEMENT > limit as f64 {
         return Err(PipelineError::TooManyElements { elements, limit });
     }
-    if settings.method.is_none() && !gathering_fits(roots, elements, limit) {
+    if plan::plan(&problem(elements, false)) == plan::Choice::Hierarchical {
         return hierarchical(scene);
     }
     progress.start("meshing", 3);
@@ -123,8 +130,15 @@ pub fn solve_controlled(
     progress.advance(1);
     let bvh = Bvh::build(&mesh.triangles);
     progress.advance(1);
-    let (method, max_sources, limit) = choose_method(&mesh, settings);
-    let sources = mesh.sources(max_sources, limit);
+    let plan::Choice::Subdivided {
+        method,
+        sources,
+        reach,
+    } = plan::plan(&problem(mesh.element_count() as f64, true))
+    else {
+        unreachable!("a meshed problem is never sent to the hierarchical solver");
+    };
+    let sources = mesh.sources(sources, reach);
     progress.advance(1);
     progress.finish();
     timings.mesh = start.elapsed().as_secs_f64();
@@ -223,53 +237,6 @@ fn solve_hierarchical(
         timings,
         absorbed,
     })
-}
-
-/// Fewest sources the automatic choice accepts for gathering before it turns to progressive
-/// refinement: with 1024 sources the Cornell box's object means stay within 1 % of the
-/// element-to-element solution (3792 elements; 256 sources are 3 % off).
-const MIN_GATHER_SOURCES: usize = 1024;
-
-/// Whether a gathering solver can run within `limit` bytes: its matrix holds every element
-/// against at least [`MIN_GATHER_SOURCES`] sources (fewer if there are fewer elements), and
-/// never fewer sources than root faces. When it cannot, the automatic choice is hierarchical
-/// radiosity, which needs no matrix: measured on the Cornell box with an 82k-triangle sphere,
-/// Gauss-Seidel refuses (25 GiB) while hierarchical solves in 15 s and 174 MB
-/// (docs/hierarchical.md).
-///
-/// Hierarchical radiosity is taken only then, not merely because a scene has many root faces:
-/// measured against the Mitsuba references of `benches/suite` (docs/validation.md), its cluster
-/// model pushes light onto the far sides of two-sided surfaces (a bare OBJ room's ceiling came
-/// out 56 % dark) and leaves a closed mesh 3 % off, where Gauss-Seidel is within 1 %.
-fn gathering_fits(roots: usize, elements: f64, limit: u64) -> bool {
-    let sources = (MIN_GATHER_SOURCES as f64).min(elements).max(roots as f64);
-    elements * sources * std::mem::size_of::<f32>() as f64 <= limit as f64
-}
-
-/// The solver, the number of sources, and how far [`Mesh::sources`] may exceed it to keep
-/// sources off contact lines. A gathering solver gets as many sources as the matrix budget
-/// allows, up to the requested number, as long as at least [`MIN_GATHER_SOURCES`] fit
-/// (`--elements 50000 --solver gauss-seidel` in 1 GiB gets fewer sources rather than a
-/// refusal), and contact lines may take it up to the budget; otherwise it keeps the requested
-/// number and the solver refuses. A method the user chose is kept; the automatic choice is
-/// Gauss-Seidel when gathering fits, else progressive refinement, which stores no matrix.
-fn choose_method(mesh: &Mesh, settings: &Settings) -> (solve::Method, usize, usize) {
-    let wanted = settings.solve.max_sources;
-    let elements = mesh.element_count().max(1);
-    let per_source = Matrix::bytes(elements, 1).max(1);
-    let fit = usize::try_from(settings.solve.max_matrix_bytes / per_source).unwrap_or(usize::MAX);
-    let enough_sources = fit >= MIN_GATHER_SOURCES.min(elements);
-    let method = settings.method.unwrap_or(if enough_sources {
-        solve::Method::GaussSeidel
-    } else {
-        solve::Method::Progressive
-    });
-    let gathers = matches!(method, solve::Method::Jacobi | solve::Method::GaussSeidel);
-    if gathers && enough_sources {
-        (method, wanted.min(fit), fit)
-    } else {
-        (method, wanted, wanted)
-    }
 }
 
 /// Σ_e A_e (1 − ρ_e) H_e. Where ρ > 0 the irradiance follows from the solution as

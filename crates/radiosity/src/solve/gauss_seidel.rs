@@ -11,10 +11,21 @@
 //! not accumulate. A sweep is sequential, hence deterministic.
 
 use super::checkpoint::Session;
+use super::gathering;
 use super::jacobi::{gather, sweeps};
 use super::matrix::Matrix;
-use super::{l1, Run, Settings, System};
+use super::solver::{Job, Solver};
+use super::{l1, Run, Settings, Solution, SolveError, System};
 use crate::progress::Progress;
+
+/// Gauss-Seidel iteration as a [`Solver`].
+pub(super) struct GaussSeidel;
+
+impl Solver for GaussSeidel {
+    fn solve(&self, job: Job, solution: &mut Solution) -> Result<(), SolveError> {
+        gathering::solve(job, solution, run)
+    }
+}
 
 /// Sweeps until the residual falls below the tolerance, the iteration limit is reached or the
 /// session is stopped (from B = E, or from the session's checkpoint).

@@ -12,8 +12,10 @@
 use rayon::prelude::*;
 
 use super::checkpoint::{Iterate, Session};
+use super::gathering;
 use super::matrix::Matrix;
-use super::{Run, Settings, System};
+use super::solver::{Job, Solver};
+use super::{Run, Settings, Solution, SolveError, System};
 use crate::progress::Progress;
 use crate::Rgb;
 
@@ -35,6 +37,15 @@ pub(super) fn run(
         std::mem::swap(b, &mut next);
         residual
     })
+}
+
+/// Jacobi iteration as a [`Solver`].
+pub(super) struct Jacobi;
+
+impl Solver for Jacobi {
+    fn solve(&self, job: Job, solution: &mut Solution) -> Result<(), SolveError> {
+        gathering::solve(job, solution, run)
+    }
 }
 
 /// The loop both gathering solvers share: start from B = E or the session's checkpoint, and

@@ -44,14 +44,16 @@
 //! checkpoints, and a checkpoint to resume from (see [`checkpoint`]).
 
 pub mod checkpoint;
+mod gathering;
 pub mod gauss_seidel;
 pub mod hierarchical;
 pub mod jacobi;
 pub mod matrix;
+pub mod plan;
 pub mod progressive;
+mod solver;
 
 use std::ops::Range;
-use std::time::Instant;
 
 use rayon::prelude::*;
 
@@ -238,7 +240,7 @@ pub fn solve_controlled(
     control: &checkpoint::Control,
     progress: &dyn Progress,
 ) -> Result<Solution, SolveError> {
-    let mut system = System::new(g)?;
+    let system = System::new(g)?;
     let mut solution = Solution {
         radiosity: system.emission.clone(),
         irradiance: vec![Rgb::ZERO; system.area.len()],
@@ -256,109 +258,15 @@ pub fn solve_controlled(
     if system.emitted <= 0.0 || !system.emitted.is_finite() {
         return Ok(solution);
     }
-    let session = |sources: &[u32]| {
-        let problem = checkpoint::Problem::new(g.mesh, sources, settings.method, control.context);
-        checkpoint::Session::new(control, problem, settings.method)
+    let job = solver::Job {
+        g,
+        ff,
+        settings,
+        control,
+        progress,
+        system,
     };
-    match settings.method {
-        Method::Jacobi | Method::GaussSeidel => {
-            let mut session = session(g.sources)?;
-            let start = Instant::now();
-            let limit = settings.max_matrix_bytes;
-            let stop = session.stop_flag();
-            let prior = session.resumed_matrix();
-            let matrix = matrix::Matrix::resume(g, ff, limit, stop, prior, progress)?;
-            solution.form_factor_seconds = start.elapsed().as_secs_f64();
-            session.keep_matrix(&matrix);
-            if !matrix.complete() {
-                // Stopped before any sweep: what there is, E or the resumed iterate, saved
-                // with the rows computed so far.
-                if let Some(it) = session.resume() {
-                    solution.radiosity = it.radiosity;
-                    solution.iterations = it.iterations;
-                    solution.residual = it.residual;
-                }
-                let (radiosity, iterations) = (&solution.radiosity, solution.iterations);
-                session.after_iteration(true, || checkpoint::Iterate {
-                    iterations,
-                    residual: solution.residual,
-                    radiosity: radiosity.clone(),
-                    ..checkpoint::Iterate::default()
-                });
-                solution.interrupted = true;
-                return Ok(solution);
-            }
-            solution.links = matrix.links();
-            let start = Instant::now();
-            progress.start("solve", 0);
-            system.bury(g, &matrix);
-            let run = if settings.method == Method::Jacobi {
-                jacobi::run(&system, &matrix, settings, &mut session, progress)
-            } else {
-                gauss_seidel::run(&system, &matrix, settings, &mut session, progress)
-            };
-            progress.finish();
-            solution.irradiance = system.irradiance(&matrix, &run.radiosity);
-            solution.radiosity = run.radiosity;
-            solution.iterations = run.iterations;
-            solution.residual = run.residual;
-            solution.history = run.history;
-            solution.interrupted = run.interrupted;
-            solution.solve_seconds = start.elapsed().as_secs_f64();
-        }
-        Method::Hierarchical => {
-            // Refine a copy (node ids stay, so each given element reads its node's mean).
-            let mut mesh = g.mesh.clone();
-            let run = hierarchical::run(&mut mesh, g.bvh, settings, control, progress)?;
-            solution.radiosity = g
-                .mesh
-                .elements
-                .iter()
-                .map(|&n| run.node_radiosity[n as usize])
-                .collect();
-            // The area-weighted mean of the refined elements below each given element.
-            solution.irradiance = g
-                .mesh
-                .elements
-                .iter()
-                .map(|&n| {
-                    let range = mesh.nodes[n as usize].elements.clone();
-                    let (mut power, mut area) = (Rgb::ZERO, 0.0);
-                    for e in range {
-                        let a = mesh.element(e as usize).face.area();
-                        power += a * run.irradiance[e as usize];
-                        area += a;
-                    }
-                    power / area.max(f64::MIN_POSITIVE)
-                })
-                .collect();
-            solution.iterations = run.iterations;
-            solution.residual = run.residual;
-            solution.history = run.history;
-            solution.interrupted = run.interrupted;
-            solution.links = run.stats.links;
-            solution.form_factor_seconds = run.refine_seconds;
-            solution.solve_seconds = run.solve_seconds;
-            solution.hierarchy = Some(run.stats);
-        }
-        Method::Progressive => {
-            let mut session = session(g.sources)?;
-            let start = Instant::now();
-            progress.start("solve", 0);
-            let run = progressive::run(&system, g, ff, settings, &mut session, progress);
-            progress.finish();
-            solution.radiosity = run.radiosity;
-            solution.irradiance = run.irradiance;
-            solution.iterations = run.iterations;
-            solution.residual = run.residual;
-            solution.history = run.history;
-            solution.links = run.links;
-            solution.ambient = run.ambient;
-            solution.interrupted = run.interrupted;
-            solution.form_factor_seconds = run.form_factor_seconds;
-            solution.solve_seconds = start.elapsed().as_secs_f64() - run.form_factor_seconds;
-        }
-    }
+    settings.method.solver().solve(job, &mut solution)?;
     Ok(solution)
 }
 

@@ -30,7 +30,8 @@
 use std::time::Instant;
 
 use super::checkpoint::{Iterate, Session};
-use super::{l1, Settings, System};
+use super::solver::{Job, Solver};
+use super::{l1, Settings, Solution, SolveError, System};
 use crate::formfactor::{FormFactors, Geometry};
 use crate::progress::Progress;
 use crate::Rgb;
@@ -49,6 +50,38 @@ pub(super) struct Shots {
     pub history: Vec<super::Sample>,
     /// Whether the session was stopped before convergence.
     pub interrupted: bool,
+}
+
+/// Progressive refinement as a [`Solver`].
+pub(super) struct Progressive;
+
+impl Solver for Progressive {
+    fn solve(&self, job: Job, solution: &mut Solution) -> Result<(), SolveError> {
+        let mut session = job.session()?;
+        let Job {
+            g,
+            ff,
+            settings,
+            progress,
+            system,
+            ..
+        } = job;
+        let start = Instant::now();
+        progress.start("solve", 0);
+        let run = run(&system, g, ff, settings, &mut session, progress);
+        progress.finish();
+        solution.radiosity = run.radiosity;
+        solution.irradiance = run.irradiance;
+        solution.iterations = run.iterations;
+        solution.residual = run.residual;
+        solution.history = run.history;
+        solution.links = run.links;
+        solution.ambient = run.ambient;
+        solution.interrupted = run.interrupted;
+        solution.form_factor_seconds = run.form_factor_seconds;
+        solution.solve_seconds = start.elapsed().as_secs_f64() - run.form_factor_seconds;
+        Ok(())
+    }
 }
 
 /// Shoots until the unshot power is below the tolerance, the iteration limit is reached or the

@@ -49,7 +49,8 @@ use std::time::Instant;
 pub use snapshot::Snapshot;
 
 use super::checkpoint::{Control, Iterate, Problem, Session};
-use super::{Method, Sample, SolveError};
+use super::solver::{Job, Solver};
+use super::{Method, Sample, Solution, SolveError};
 use crate::accel::Bvh;
 use crate::mesh::{Mesh, Node};
 use crate::progress::Progress;
@@ -107,6 +108,52 @@ pub struct Outcome {
     /// Whether `control` stopped the run before it finished: the radiosity is then the last
     /// iterate on the links refined so far (push-pull keeps it consistent at every step).
     pub interrupted: bool,
+}
+
+/// Hierarchical radiosity as a [`Solver`] of a given mesh: it refines a copy (node ids stay,
+/// so each given element reads its node's mean, and its irradiance is the area-weighted mean
+/// of the refined elements below it). The pipeline, which displays the refined mesh itself,
+/// calls [`run`] on it.
+pub(super) struct Hierarchical;
+
+impl Solver for Hierarchical {
+    fn solve(&self, job: Job, solution: &mut Solution) -> Result<(), SolveError> {
+        let Job {
+            g,
+            settings,
+            control,
+            progress,
+            ..
+        } = job;
+        let mut mesh = g.mesh.clone();
+        let run = run(&mut mesh, g.bvh, settings, control, progress)?;
+        let given = &g.mesh.elements;
+        solution.radiosity = given
+            .iter()
+            .map(|&n| run.node_radiosity[n as usize])
+            .collect();
+        solution.irradiance = given
+            .iter()
+            .map(|&n| {
+                let (mut power, mut area) = (Rgb::ZERO, 0.0);
+                for e in mesh.nodes[n as usize].elements.clone() {
+                    let a = mesh.element(e as usize).face.area();
+                    power += a * run.irradiance[e as usize];
+                    area += a;
+                }
+                power / area.max(f64::MIN_POSITIVE)
+            })
+            .collect();
+        solution.iterations = run.iterations;
+        solution.residual = run.residual;
+        solution.history = run.history;
+        solution.interrupted = run.interrupted;
+        solution.links = run.stats.links;
+        solution.form_factor_seconds = run.refine_seconds;
+        solution.solve_seconds = run.solve_seconds;
+        solution.hierarchy = Some(run.stats);
+        Ok(())
+    }
 }
 
 /// Refines `mesh` and solves it hierarchically with the options of `settings` (`epsilon`,

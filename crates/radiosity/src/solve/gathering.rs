@@ -1,0 +1,66 @@
+//! The gathering solvers' road: compute the form-factor matrix (resuming the rows of a
+//! checkpoint, stopping between chunks of rows), then sweep until converged. Jacobi and
+//! Gauss-Seidel differ only in their sweep ([`super::jacobi`], [`super::gauss_seidel`]).
+
+use std::time::Instant;
+
+use super::checkpoint::{Iterate, Session};
+use super::matrix::Matrix;
+use super::solver::Job;
+use super::{Run, Settings, Solution, SolveError, System};
+use crate::progress::Progress;
+
+/// A gathering solver's iterations: from the system, the complete matrix and the session to
+/// the last iterate.
+pub(super) type Sweeps = fn(&System, &Matrix, &Settings, &mut Session, &dyn Progress) -> Run;
+
+/// Solves `job` into `solution` with the matrix, then `sweeps`.
+pub(super) fn solve(job: Job, solution: &mut Solution, sweeps: Sweeps) -> Result<(), SolveError> {
+    let mut session = job.session()?;
+    let Job {
+        g,
+        ff,
+        settings,
+        progress,
+        mut system,
+        ..
+    } = job;
+    let start = Instant::now();
+    let stop = session.stop_flag();
+    let prior = session.resumed_matrix();
+    let matrix = Matrix::resume(g, ff, settings.max_matrix_bytes, stop, prior, progress)?;
+    solution.form_factor_seconds = start.elapsed().as_secs_f64();
+    session.keep_matrix(&matrix);
+    if !matrix.complete() {
+        // Stopped before any sweep: what there is, E or the resumed iterate, saved with the
+        // rows computed so far.
+        if let Some(it) = session.resume() {
+            solution.radiosity = it.radiosity;
+            solution.iterations = it.iterations;
+            solution.residual = it.residual;
+        }
+        let (radiosity, iterations) = (&solution.radiosity, solution.iterations);
+        session.after_iteration(true, || Iterate {
+            iterations,
+            residual: solution.residual,
+            radiosity: radiosity.clone(),
+            ..Iterate::default()
+        });
+        solution.interrupted = true;
+        return Ok(());
+    }
+    solution.links = matrix.links();
+    let start = Instant::now();
+    progress.start("solve", 0);
+    system.bury(g, &matrix);
+    let run = sweeps(&system, &matrix, settings, &mut session, progress);
+    progress.finish();
+    solution.irradiance = system.irradiance(&matrix, &run.radiosity);
+    solution.radiosity = run.radiosity;
+    solution.iterations = run.iterations;
+    solution.residual = run.residual;
+    solution.history = run.history;
+    solution.interrupted = run.interrupted;
+    solution.solve_seconds = start.elapsed().as_secs_f64();
+    Ok(())
+}
