@@ -7,10 +7,10 @@ use std::process::Command;
 
 use glam::Vec3;
 use radiosity::io::gltf::{vertex_colours, write_glb, Placement, VertexColours};
-use radiosity::io::gltf_import::read_gltf;
 use radiosity::mesh::Subdivision;
 use radiosity::pipeline::{self, Settings, Solved};
 use radiosity::progress::Silent;
+use radiosity::scene::import::gltf_file::read_gltf;
 use radiosity::Scene;
 
 fn temp_dir(name: &str) -> PathBuf {

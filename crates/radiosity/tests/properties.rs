@@ -22,9 +22,9 @@ use std::path::Path;
 
 use glam::{DVec3, Vec3};
 use proptest::prelude::*;
-use radiosity::io::gltf_import::parse_gltf;
-use radiosity::io::obj::parse_obj;
 use radiosity::mesh::{Mesh, Subdivision};
+use radiosity::scene::import::gltf_file::parse_gltf;
+use radiosity::scene::import::obj::parse_obj;
 use radiosity::scene::validate::{polygon_problem, PolygonProblem};
 use radiosity::Scene;
 

@@ -1,8 +1,8 @@
-//! File input and output (in progress).
+//! File output: images, the lit mesh (PLY, binary glTF), the HTML viewer, and the atomic
+//! writes they all go through. (The scene readers — OBJ/MTL, glTF — belong to the scene:
+//! [`crate::scene::import`].)
 pub mod atomic;
 pub mod gltf;
-pub mod gltf_import;
 pub mod html;
 pub mod image_file;
-pub mod obj;
 pub mod ply;

@@ -4,7 +4,7 @@
 //! description structs that keep the source location of every value, [`validate`] checks them
 //! and reports the first problem with `file:line:col` and the key, and [`build`] turns them into
 //! the frozen [`Scene`] below: planar polygons with materials, objects and cameras. A bare
-//! `.obj` file is a scene too (see [`crate::io::obj`]).
+//! `.obj` file is a scene too (see [`crate::scene::import::obj`]).
 
 pub mod build;
 pub mod builtin;
@@ -12,6 +12,7 @@ pub(crate) mod coincident;
 pub mod description;
 pub mod error;
 pub mod frame;
+pub mod import;
 pub mod near_emitters;
 pub mod parse;
 pub mod sky;

@@ -2,7 +2,7 @@
 //!
 //! Every shape is turned into planar polygons here, one build function per [`ShapeDesc`]
 //! variant: a polygon as written, a box by [`model::primitives::cuboid`], a sphere by
-//! [`model::primitives::icosphere`], a mesh by [`crate::io::obj`]. The object's transform
+//! [`model::primitives::icosphere`], a mesh by [`crate::scene::import::obj`]. The object's transform
 //! (scale → rotate x, y, z → translate, [`model::Transform::from_srt`]) is applied to the
 //! corners, and faces are reversed when it mirrors so that fronts stay fronts.
 //!
@@ -25,8 +25,8 @@ use super::{
     builtin, frame, near_emitters, parse, validate, Camera, Material, Object, Polygon, Scene,
 };
 use super::{Loc, RenderDefaults, SceneError};
-use crate::io::gltf_import;
-use crate::io::obj::{self, ObjFile};
+use crate::scene::import::gltf_file;
+use crate::scene::import::obj::{self, ObjFile};
 
 mod shapes;
 use shapes::{modeled_mesh, solid_mesh};
@@ -79,7 +79,7 @@ impl Scene {
     /// ([`frame::frame`]).
     ///
     /// # Errors
-    /// The file cannot be read or is malformed (see [`crate::io::obj`]), or has no usable face.
+    /// The file cannot be read or is malformed (see [`crate::scene::import::obj`]), or has no usable face.
     pub fn from_obj_file(path: &Path) -> Result<Self, SceneError> {
         let obj = obj::read_obj(path)?;
         let mut b = Builder::new(path);
@@ -103,12 +103,12 @@ impl Scene {
 
     /// A glTF file (`.gltf` or `.glb`) as a scene: one object per node name, its materials
     /// as written (`doubleSided` kept), and its first perspective camera or a framed one
-    /// (see [`crate::io::gltf_import`]).
+    /// (see [`crate::scene::import::gltf_file`]).
     ///
     /// # Errors
     /// The file cannot be read or is not valid glTF, or has no usable triangle.
     pub fn from_gltf_file(path: &Path) -> Result<Self, SceneError> {
-        let gltf = gltf_import::read_gltf(path)?;
+        let gltf = gltf_file::read_gltf(path)?;
         let obj = gltf.mesh;
         let mut b = Builder::new(path);
         b.scene.warnings = obj.warnings.clone();
@@ -311,7 +311,7 @@ fn build_mesh(
                     .with_key(path.key.clone()),
             );
         }
-        gltf_import::read_gltf(&full)?.mesh
+        gltf_file::read_gltf(&full)?.mesh
     } else {
         let text = std::fs::read_to_string(&full).map_err(|e| {
             SceneError::at(at, format!("cannot read mesh `{}`: {e}", full.display()))

@@ -34,7 +34,7 @@
 //!   "bufferViews": [{"buffer": 0, "byteLength": 36}],
 //!   "buffers": [{"byteLength": 36, "uri":
 //!     "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]}"#;
-//! let g = radiosity::io::gltf_import::parse_gltf(json.as_bytes(), Path::new("tri.gltf"))?;
+//! let g = radiosity::scene::import::gltf_file::parse_gltf(json.as_bytes(), Path::new("tri.gltf"))?;
 //! assert_eq!((g.mesh.faces.len(), g.mesh.groups[0].as_str()), (1, "tri"));
 //! # Ok::<(), radiosity::scene::SceneError>(())
 //! ```
