@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use radiosity::io::gltf::VertexColours;
 
 /// Global illumination by radiosity: solve a scene once, then render it from any camera or
 /// export the lit mesh.
@@ -288,7 +289,7 @@ pub struct CommonArgs {
     /// `_RADIOSITY` attribute).
     #[arg(long, value_name = "auto|linear|STOPS", default_value = "auto",
           allow_negative_numbers = true, value_parser = parse_export_colours)]
-    pub export_exposure: ExportColours,
+    pub export_exposure: VertexColours,
     /// Solver of the radiosity equation.
     #[arg(long, value_enum, default_value_t = Solver::Auto)]
     pub solver: Solver,
@@ -458,24 +459,13 @@ pub enum FormFactors {
     Hemicube,
 }
 
-/// `--export-exposure`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ExportColours {
-    /// The automatic exposure.
-    Auto,
-    /// Radiance × 2^stops.
-    Stops(f32),
-    /// Radiance unscaled (.glb; the viewer starts at the automatic exposure).
-    Linear,
-}
-
-/// `auto`, `linear` or a finite number of stops.
-fn parse_export_colours(s: &str) -> Result<ExportColours, String> {
+/// `--export-exposure`: `auto`, `linear` or a finite number of stops.
+fn parse_export_colours(s: &str) -> Result<VertexColours, String> {
     match s.trim().to_ascii_lowercase().as_str() {
-        "auto" => Ok(ExportColours::Auto),
-        "linear" => Ok(ExportColours::Linear),
+        "auto" => Ok(VertexColours::AutoExposure),
+        "linear" => Ok(VertexColours::Linear),
         _ => finite_f32(s)
-            .map(ExportColours::Stops)
+            .map(VertexColours::Exposure)
             .map_err(|_| format!("`{s}` is not `auto`, `linear` or a number of stops")),
     }
 }

@@ -2,94 +2,18 @@
 //! and (when the scene has mirrors or glass) the two-pass ray tracer — side by side in one
 //! labelled image, all from one solve and one exposure.
 
-use std::io::IsTerminal;
 use std::time::Instant;
 
 use anyhow::Result;
 use radiosity::io::atomic::Batch;
 use radiosity::io::image_file::write_image;
-use radiosity::mesh::{display, Mesh, Subdivision};
-use radiosity::pipeline::Solved;
-use radiosity::render::local::{self, LocalSettings};
-use radiosity::render::raytrace::{self, RaytraceSettings, Watch};
-use radiosity::render::{self, compare, tonemap, Image, RasterSettings};
-use radiosity::scene::Camera;
+use radiosity::render::raytrace;
+use radiosity::render::{compare, tonemap, Image, RasterSettings};
 use radiosity::Rgb;
-use radiosity::Scene;
 
 use crate::args::{CompareArgs, Mode};
-use crate::bars::Bars;
 use crate::job;
-
-/// The image of `solved` seen by `camera` in `mode`; `gather` is the final-gather ray count of
-/// the ray tracer, `shadows` whether local illumination casts shadows. Every mode reports
-/// progress and stops on Ctrl-C ([`job::Interrupted`], nothing written).
-pub fn render_mode(
-    solved: &Solved,
-    camera: &Camera,
-    mode: Mode,
-    raster: &RasterSettings,
-    gather: u32,
-    shadows: bool,
-    quiet: bool,
-) -> Result<Image> {
-    let (scene, mesh, lit) = (&solved.scene, &solved.mesh, &solved.lit);
-    watched(quiet, |watch| match mode {
-        Mode::Radiosity => render::render_watched(lit, camera, raster, watch),
-        Mode::Local => {
-            let settings = LocalSettings {
-                shadows,
-                ..LocalSettings::default()
-            };
-            local::render(scene, mesh, lit, camera, raster, &settings, watch)
-        }
-        Mode::Raytrace => {
-            let settings = RaytraceSettings {
-                gather,
-                ..RaytraceSettings::default()
-            };
-            raytrace::render(scene, mesh, lit, camera, raster, &settings, watch)
-        }
-        Mode::Final => {
-            let radiosity = &solved.solution.radiosity;
-            let settings = RaytraceSettings::default();
-            raytrace::evaluate::render(scene, mesh, radiosity, camera, raster, &settings, watch)
-        }
-    })
-}
-
-/// Local illumination of `scene` without a radiosity solve: its patches unsubdivided (the local
-/// model reads only the geometry and the emitters).
-pub fn render_local(
-    scene: &Scene,
-    camera: &Camera,
-    raster: &RasterSettings,
-    shadows: bool,
-    quiet: bool,
-) -> Result<Image> {
-    let mesh = Mesh::build(scene, Subdivision::MaxArea(f64::INFINITY));
-    let lit = display::lit_mesh(&mesh, &vec![Rgb::ZERO; mesh.element_count()]);
-    let settings = LocalSettings {
-        shadows,
-        ..LocalSettings::default()
-    };
-    watched(quiet, |watch| {
-        local::render(scene, &mesh, &lit, camera, raster, &settings, watch)
-    })
-}
-
-/// Runs a render with a progress bar (on a terminal, unless `quiet`) and the Ctrl-C flag;
-/// `None` from it is an interruption.
-fn watched(quiet: bool, render: impl FnOnce(&Watch) -> Option<Image>) -> Result<Image> {
-    let bars = Bars::new(!quiet && std::io::stderr().is_terminal());
-    let stop = job::stop_flag();
-    let watch = Watch {
-        progress: &bars,
-        stop: Some(&stop),
-    };
-    render(&watch)
-        .ok_or_else(|| job::Interrupted("interrupted while rendering: wrote nothing".into()).into())
-}
+use crate::picture;
 
 /// `radiosity compare`.
 pub fn run(args: &CompareArgs) -> Result<()> {
@@ -125,7 +49,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         let mut panels = Vec::with_capacity(modes.len());
         for (label, mode) in modes {
             let t = Instant::now();
-            let image = render_mode(
+            let image = picture::render_mode(
                 &solved,
                 &camera,
                 mode,

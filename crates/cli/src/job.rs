@@ -8,16 +8,14 @@
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, OnceLock};
+use std::sync::atomic::Ordering;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use radiosity::io::atomic::{write_atomic, Batch};
-use radiosity::io::gltf::{write_glb, Placement, VertexColours};
-use radiosity::io::html;
+use radiosity::io::export;
 use radiosity::io::image_file::write_image;
-use radiosity::io::ply::write_ply;
 use radiosity::pipeline::{self, Solved};
 use radiosity::plot::write_convergence_svg;
 use radiosity::render::{tonemap, RasterSettings};
@@ -27,9 +25,10 @@ use radiosity::solve::checkpoint::{Checkpoint, Checkpointing, Control};
 use radiosity::stats::Timings;
 use radiosity::Scene;
 
-use crate::args::{CommonArgs, ExportColours, Mode, RenderArgs, SolveArgs, Solver, ViewArgs};
+use crate::args::{CommonArgs, Mode, RenderArgs, SolveArgs, Solver, ViewArgs};
 use crate::bars::Bars;
-use crate::compare;
+use crate::interrupt::{stop_flag, Interrupted};
+use crate::picture;
 use crate::settings;
 
 /// Image extensions `--output` accepts.
@@ -128,7 +127,7 @@ fn render_job(args: &RenderArgs) -> Result<()> {
     };
     if args.mode == Mode::Local {
         let image =
-            compare::render_local(&scene, &camera, &raster, !args.no_shadows, common.quiet)?;
+            picture::render_local(&scene, &camera, &raster, !args.no_shadows, common.quiet)?;
         let exposure = args
             .exposure
             .unwrap_or_else(|| tonemap::auto_exposure(&image));
@@ -151,7 +150,7 @@ fn render_job(args: &RenderArgs) -> Result<()> {
             "not rendered: the solve was interrupted (the stats and exports hold the solution              so far; --mode radiosity pictures it at once)",
         );
     } else {
-        let image = compare::render_mode(
+        let image = picture::render_mode(
             &solved,
             &camera,
             args.mode,
@@ -310,35 +309,6 @@ fn with_flags(e: pipeline::PipelineError) -> anyhow::Error {
     anyhow::anyhow!("{e}: {advice}")
 }
 
-/// A job stopped by Ctrl-C, with the line that says what it wrote: `main` prints it and exits
-/// with status 130 (the shell's convention for SIGINT).
-#[derive(Debug)]
-pub struct Interrupted(pub String);
-
-impl std::fmt::Display for Interrupted {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for Interrupted {}
-
-/// The stop flag, set by the first Ctrl-C; the second ends the process at once (status 130).
-/// The handler is installed on first use; if it cannot be, Ctrl-C keeps its default effect.
-pub(crate) fn stop_flag() -> Arc<AtomicBool> {
-    static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
-    Arc::clone(FLAG.get_or_init(|| {
-        let flag = Arc::new(AtomicBool::new(false));
-        let handler_flag = Arc::clone(&flag);
-        let _ = ctrlc::set_handler(move || {
-            if handler_flag.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-        });
-        flag
-    }))
-}
-
 /// The solve's control: the Ctrl-C flag, `--checkpoint` and `--resume`.
 fn control(common: &CommonArgs) -> Result<Control> {
     let resume = match &common.resume {
@@ -431,35 +401,20 @@ pub(crate) fn finish(
         || solved.scene.render.width as f32 / solved.scene.render.height.max(1) as f32,
         |(_, aspect)| aspect,
     );
+    let options = export::Options {
+        colours: common.export_exposure,
+        cameras: &cameras,
+        aspect,
+    };
     for path in common
         .export
         .iter()
         .filter(|p| may_write(p, solved, common))
     {
-        let names: Vec<String> = solved
-            .scene
-            .objects
-            .iter()
-            .map(|o| o.name.clone())
-            .collect();
-        let colours = common.export_exposure;
-        let tmp = batch.stage(path)?;
-        let written = match extension(path).as_str() {
-            "glb" => write_glb(
-                &tmp,
-                &solved.lit,
-                &names,
-                glb_colours(colours),
-                &Placement {
-                    metres_per_unit: solved.scene.units.metres(),
-                    cameras: &cameras,
-                    aspect,
-                },
-            ),
-            "html" => html::write_solved(&tmp, solved, html_exposure(colours)),
-            _ => write_ply(&tmp, &solved.lit, &names),
-        };
-        written.with_context(|| format!("{}: cannot write", path.display()))?;
+        let format = export::Format::of(path).context("checked by check_common")?;
+        stage(&mut batch, path, |tmp| {
+            Ok(format.write(tmp, solved, &options)?)
+        })?;
     }
     let stats = solved.stats(&Timings {
         load: load_seconds,
@@ -532,23 +487,6 @@ fn commit(batch: Batch, common: &CommonArgs) -> Result<()> {
     Ok(())
 }
 
-/// The `.glb` vertex colours `--export-exposure` asks for.
-fn glb_colours(colours: ExportColours) -> VertexColours {
-    match colours {
-        ExportColours::Auto => VertexColours::AutoExposure,
-        ExportColours::Stops(stops) => VertexColours::Exposure(stops),
-        ExportColours::Linear => VertexColours::Linear,
-    }
-}
-
-/// The viewer's initial exposure `--export-exposure` asks for (`None`: automatic).
-fn html_exposure(colours: ExportColours) -> Option<f32> {
-    match colours {
-        ExportColours::Stops(stops) => Some(stops),
-        ExportColours::Auto | ExportColours::Linear => None,
-    }
-}
-
 /// Checks the flags that contradict each other and the `--stats`, `--plot`, `--export` and
 /// `--checkpoint` paths, before any work.
 pub(crate) fn check_common(common: &CommonArgs) -> Result<()> {
@@ -569,8 +507,9 @@ pub(crate) fn check_common(common: &CommonArgs) -> Result<()> {
     if let Some(path) = &common.plot {
         check_output(path, "plot", &["svg"])?;
     }
+    let formats: Vec<&str> = export::Format::ALL.iter().map(|&(_, e)| e).collect();
     for path in &common.export {
-        check_output(path, "export", &["ply", "glb", "html"])?;
+        check_output(path, "export", &formats)?;
     }
     if let Some(path) = &common.checkpoint {
         check_directory(path)?;

@@ -27,7 +27,9 @@ mod compare;
 mod curve;
 mod hemicube;
 mod info;
+mod interrupt;
 mod job;
+mod picture;
 mod reference_suite;
 mod settings;
 mod validate;
@@ -72,7 +74,7 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) if e.is::<job::Interrupted>() => {
+        Err(e) if e.is::<interrupt::Interrupted>() => {
             let _ = writeln!(std::io::stderr(), "{e}");
             ExitCode::from(INTERRUPTED)
         }

@@ -2,6 +2,7 @@
 //! writes they all go through. (The scene readers — OBJ/MTL, glTF — belong to the scene:
 //! [`crate::scene::import`].)
 pub mod atomic;
+pub mod export;
 pub mod gltf;
 pub mod html;
 pub mod image_file;

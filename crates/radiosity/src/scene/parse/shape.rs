@@ -183,9 +183,16 @@ fn parse_shape(kind: &str, t: &mut Table<'_>) -> Result<ShapeDesc, SceneError> {
         "instance" => ShapeDesc::Instance {
             of: t.required_with("of", |k, v| src.string(k, v))?,
         },
-        _ => ShapeDesc::Mesh {
+        "mesh" => ShapeDesc::Mesh {
             path: t.required_with("path", |k, v| Ok(src.string(k, v)?.map(PathBuf::from)))?,
         },
+        // Every name of SHAPES has its arm above; `allowed_keys` let no other through.
+        other => {
+            return Err(SceneError::at(
+                src.loc_of(src.pos(t.span.start)),
+                format!("unknown shape `{other}`"),
+            ))
+        }
     })
 }
 

@@ -1,0 +1,88 @@
+//! A picture of a solved scene in one of the render modes, with a progress bar and the
+//! Ctrl-C flag: what `render` and `compare` both draw with.
+
+use std::io::IsTerminal;
+
+use anyhow::Result;
+use radiosity::mesh::{display, Mesh, Subdivision};
+use radiosity::pipeline::Solved;
+use radiosity::render::local::{self, LocalSettings};
+use radiosity::render::raytrace::{self, RaytraceSettings, Watch};
+use radiosity::render::{self, Image, RasterSettings};
+use radiosity::scene::Camera;
+use radiosity::Rgb;
+use radiosity::Scene;
+
+use crate::args::Mode;
+use crate::bars::Bars;
+use crate::interrupt::{stop_flag, Interrupted};
+
+/// The image of `solved` seen by `camera` in `mode`; `gather` is the final-gather ray count of
+/// the ray tracer, `shadows` whether local illumination casts shadows. Every mode reports
+/// progress and stops on Ctrl-C ([`Interrupted`], nothing written).
+pub fn render_mode(
+    solved: &Solved,
+    camera: &Camera,
+    mode: Mode,
+    raster: &RasterSettings,
+    gather: u32,
+    shadows: bool,
+    quiet: bool,
+) -> Result<Image> {
+    let (scene, mesh, lit) = (&solved.scene, &solved.mesh, &solved.lit);
+    watched(quiet, |watch| match mode {
+        Mode::Radiosity => render::render_watched(lit, camera, raster, watch),
+        Mode::Local => {
+            let settings = LocalSettings {
+                shadows,
+                ..LocalSettings::default()
+            };
+            local::render(scene, mesh, lit, camera, raster, &settings, watch)
+        }
+        Mode::Raytrace => {
+            let settings = RaytraceSettings {
+                gather,
+                ..RaytraceSettings::default()
+            };
+            raytrace::render(scene, mesh, lit, camera, raster, &settings, watch)
+        }
+        Mode::Final => {
+            let radiosity = &solved.solution.radiosity;
+            let settings = RaytraceSettings::default();
+            raytrace::evaluate::render(scene, mesh, radiosity, camera, raster, &settings, watch)
+        }
+    })
+}
+
+/// Local illumination of `scene` without a radiosity solve: its patches unsubdivided (the local
+/// model reads only the geometry and the emitters).
+pub fn render_local(
+    scene: &Scene,
+    camera: &Camera,
+    raster: &RasterSettings,
+    shadows: bool,
+    quiet: bool,
+) -> Result<Image> {
+    let mesh = Mesh::build(scene, Subdivision::MaxArea(f64::INFINITY));
+    let lit = display::lit_mesh(&mesh, &vec![Rgb::ZERO; mesh.element_count()]);
+    let settings = LocalSettings {
+        shadows,
+        ..LocalSettings::default()
+    };
+    watched(quiet, |watch| {
+        local::render(scene, &mesh, &lit, camera, raster, &settings, watch)
+    })
+}
+
+/// Runs a render with a progress bar (on a terminal, unless `quiet`) and the Ctrl-C flag;
+/// `None` from it is an interruption.
+fn watched(quiet: bool, render: impl FnOnce(&Watch) -> Option<Image>) -> Result<Image> {
+    let bars = Bars::new(!quiet && std::io::stderr().is_terminal());
+    let stop = stop_flag();
+    let watch = Watch {
+        progress: &bars,
+        stop: Some(&stop),
+    };
+    render(&watch)
+        .ok_or_else(|| Interrupted("interrupted while rendering: wrote nothing".into()).into())
+}
