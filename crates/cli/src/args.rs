@@ -385,10 +385,15 @@ pub struct BenchArgs {
     /// suite, which runs each case in a process of its own to measure its peak memory).
     #[arg(long, hide = true)]
     pub case: Option<usize>,
-    /// Triangles in the large benchmark scene (a field of tessellated spheres); the built-in
-    /// Cornell box is always measured too.
+    /// Triangles in each large benchmark scene (the sphere field, closed and open, and the
+    /// teapot); the built-in Cornell box is measured as it is.
     #[arg(long, default_value_t = 1_000_000, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
     pub triangles: u64,
+    /// Measure only these scenes, comma-separated (default: all of `cornell`, `spheres`,
+    /// `spheres-open`, `teapot`).
+    #[arg(long, value_name = "NAME,...", value_delimiter = ',',
+          value_parser = ["cornell", "spheres", "spheres-open", "teapot"])]
+    pub scenes: Vec<String>,
     /// Incoherent rays per measurement.
     #[arg(long, default_value_t = 1_000_000, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
     pub rays: u64,

@@ -1,10 +1,13 @@
-//! `radiosity bench`: ray throughput of the BVH on incoherent rays
-//! (see [`radiosity::accel::bench`]), on the built-in Cornell box and on a large sphere field.
+//! `radiosity bench`: ray throughput of the BVH (see [`radiosity::accel::bench`]) on the
+//! built-in Cornell box, the sphere field closed and open, and the teapot, each with
+//! incoherent, primary and shadow rays.
 
 use std::io::{IsTerminal, Write};
 
 use anyhow::Context;
-use radiosity::accel::{bench, Bvh};
+use glam::Vec3;
+use radiosity::accel::bench::{self, AreaLight, BenchScene, Camera, RaySet};
+use radiosity::accel::Bvh;
 use radiosity::io::atomic::write_atomic;
 use radiosity::mesh::{Mesh, Subdivision};
 use radiosity::scene::builtin;
@@ -14,7 +17,40 @@ use radiosity::progress::Progress;
 use crate::args::BenchArgs;
 use crate::bars::Bars;
 
-/// Measures both scenes for each thread count, prints one line per measurement, and writes the
+/// The built-in Cornell box's polygons as triangles, with the camera of its scene file
+/// (`scenes/cornell/scene.toml`, millimetres) and a light just under its ceiling light.
+fn cornell() -> anyhow::Result<BenchScene> {
+    let scene = builtin::load("cornell").context("the built-in Cornell box is missing")??;
+    Ok(BenchScene {
+        name: "cornell",
+        triangles: Mesh::build(&scene, Subdivision::Elements(1)).triangles,
+        camera: Camera {
+            eye: Vec3::new(278.0, 273.0, -800.0),
+            target: Vec3::new(278.0, 273.0, 0.0),
+            fov_y_degrees: 39.3077,
+        },
+        light: AreaLight {
+            corner: Vec3::new(213.0, 548.0, 227.0),
+            edge_a: Vec3::new(130.0, 0.0, 0.0),
+            edge_b: Vec3::new(0.0, 0.0, 105.0),
+        },
+    })
+}
+
+/// A scene of about the given number of triangles (the Cornell box ignores it).
+type Maker = fn(usize) -> anyhow::Result<BenchScene>;
+
+/// The scenes by name, in the order they are measured.
+const SCENES: [(&str, Maker); 4] = [
+    ("cornell", |_| cornell()),
+    ("spheres", |n| Ok(bench::scenes::sphere_field(n, true))),
+    ("spheres-open", |n| {
+        Ok(bench::scenes::sphere_field(n, false))
+    }),
+    ("teapot", |n| Ok(bench::scenes::teapot(n))),
+];
+
+/// Measures every scene for each thread count, prints one line per measurement, and writes the
 /// JSON reports and the workloads if asked.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let threads: Vec<usize> = if args.threads.is_empty() {
@@ -27,47 +63,54 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     } else {
         args.threads.iter().map(|&n| n as usize).collect()
     };
-    let cornell = builtin::load("cornell").context("the built-in Cornell box is missing")??;
-    let scenes = [
-        (
-            "cornell",
-            Mesh::build(&cornell, Subdivision::Elements(1)).triangles,
-        ),
-        (
-            "spheres",
-            bench::sphere_field_triangles(args.triangles as usize),
-        ),
-    ];
+    let target = args.triangles as usize;
     let mut all = Vec::new();
     let mut out = std::io::stdout().lock();
     let bars = Bars::new(std::io::stderr().is_terminal());
-    for (name, triangles) in &scenes {
+    for (name, make) in SCENES {
+        if !args.scenes.is_empty() && !args.scenes.iter().any(|s| s == name) {
+            continue;
+        }
+        let scene = make(target)?;
         // A spinner while the scene is built and measured (stderr, on a terminal only).
-        bars.start(&format!("bench {name}"), 0);
-        let bvh = Bvh::build(triangles);
-        let rays = bench::incoherent_rays(triangles, &bvh, args.rays as usize, args.seed);
-        drop(bvh);
+        bars.start(&format!("bench {}", scene.name), 0);
+        let sets = ray_sets(&scene, args);
         if let Some(dir) = &args.workload {
-            let path = dir.join(format!("{name}.bin"));
-            write_atomic(&path, |w| bench::write_workload(w, triangles, &rays))
+            let path = dir.join(format!("{}.bin", scene.name));
+            write_atomic(&path, |w| bench::write_workload(w, &scene.triangles, &sets))
                 .with_context(|| format!("{}: cannot write", path.display()))?;
         }
-        let reports = bench::run(triangles, &rays, &threads).context("cannot start threads")?;
+        let report = bench::run(scene.name, &scene.triangles, &sets, &threads)
+            .context("cannot start threads")?;
         bars.finish();
-        for r in &reports {
+        for b in &report.builds {
             writeln!(
                 out,
-                "{name:<8} threads {:>3}  triangles {:>8}  rays {}  build {:.3} s  \
-                 occlusion {:.2} Mrays/s  closest hit {:.2} Mrays/s",
-                r.threads,
-                r.triangles,
-                r.rays,
-                r.build_seconds,
-                r.occlusion_rays_per_second / 1e6,
-                r.closest_hit_rays_per_second / 1e6,
+                "{:<12} triangles {:>8}  threads {:>2}  build {:.3} s  {:.1} bytes/triangle",
+                report.scene, report.triangles, b.threads, b.seconds, report.bytes_per_triangle,
             )?;
         }
-        all.push(serde_json::json!({ "scene": name, "reports": reports }));
+        for s in &report.sets {
+            for r in &s.rates {
+                writeln!(
+                    out,
+                    "{:<12} {:<10} rays {:>7}  threads {:>2}  Mrays/s: occlusion {:6.2}, \
+                     interleaved {:6.2}; closest hit {:6.2}, interleaved {:6.2}  \
+                     occluded {}  hits {}",
+                    report.scene,
+                    s.name,
+                    s.rays,
+                    r.threads,
+                    r.occlusion_rays_per_second / 1e6,
+                    r.occlusion_batched_rays_per_second / 1e6,
+                    r.closest_hit_rays_per_second / 1e6,
+                    r.closest_hit_batched_rays_per_second / 1e6,
+                    s.occluded,
+                    s.hits,
+                )?;
+            }
+        }
+        all.push(report);
     }
     if let Some(path) = &args.json {
         let json = serde_json::to_vec_pretty(&all)?;
@@ -75,4 +118,13 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             .with_context(|| format!("{}: cannot write", path.display()))?;
     }
     Ok(())
+}
+
+/// The incoherent, primary and shadow rays of `scene`.
+fn ray_sets(scene: &BenchScene, args: &BenchArgs) -> [RaySet; 3] {
+    let bvh = Bvh::build(&scene.triangles);
+    let incoherent = bench::rays::incoherent(&scene.triangles, &bvh, args.rays as usize, args.seed);
+    let primary = bench::rays::primary(&scene.camera);
+    let shadow = bench::rays::shadow(&scene.triangles, &bvh, &primary, &scene.light, args.seed);
+    [incoherent, primary, shadow]
 }

@@ -162,6 +162,16 @@ fn check(tris: &[[Vec3; 3]], bvh: &Bvh, rays: &[Ray], rng: &mut Rng) -> usize {
             assert_eq!(clipped.is_some(), brute.is_some(), "{ray:?} {t_max}");
         }
     }
+    // The interleaved queries give exactly what the one-ray queries give, ray by ray.
+    let t_max: Vec<f32> = rays.iter().map(|_| rng.range(0.0, 3.0)).collect();
+    let mut closest = vec![None; rays.len()];
+    bvh.closest_hits(rays, &t_max, &mut closest);
+    let mut occluded = vec![false; rays.len()];
+    bvh.occluded_many(rays, &t_max, &mut occluded);
+    for (k, ray) in rays.iter().enumerate() {
+        assert_eq!(closest[k], bvh.closest_hit(ray, t_max[k]), "{ray:?}");
+        assert_eq!(occluded[k], bvh.occluded(ray, t_max[k]), "{ray:?}");
+    }
     hits
 }
 

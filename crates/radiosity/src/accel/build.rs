@@ -7,8 +7,10 @@
 //! C = C_trav + C_isect · (A(L)·N(L) + A(R)·N(R)) / A(parent)
 //! ```
 //!
-//! (MacDonald & Booth 1990), A the surface area of a box and N its triangle count; a leaf costs
-//! C_isect · N. The candidate splits are the planes between [`BINS`] equal bins of the
+//! (MacDonald & Booth 1990), A the surface area of a box and N the number of packets of four
+//! its triangles fill, ⌈n/4⌉ (leaves are tested a packet at a time, [`super::packet`]; Embree
+//! counts its SAH in blocks of four the same way); a leaf costs C_isect · N. The candidate
+//! splits are the planes between [`BINS`] equal bins of the
 //! centroids' extent on each axis, evaluated with one sweep each way. Subtrees above
 //! [`PARALLEL_MIN`] triangles are built in parallel with `rayon::join` into their own node arrays
 //! and concatenated in a fixed order, so the result does not depend on the thread count.
@@ -21,6 +23,7 @@
 use glam::Vec3;
 
 use super::bvh::{is_leaf, leaf_ref, Aabb, Node, EMPTY_CHILD, MAX_LEAF, WIDTH};
+use super::packet::LANES;
 
 /// A binary node: the boxes and references of its two children.
 #[derive(Clone, Copy, Debug)]
@@ -32,7 +35,8 @@ struct Node2 {
 /// Centroid bins per axis.
 const BINS: usize = 32;
 /// Cost of visiting a binary node (two slab tests and a likely cache miss), relative to one
-/// triangle test (1 measured faster than 2 and 3 on both benchmark scenes).
+/// packet test (with packets: 0.5, 1, 2 and 4 within noise of each other at 1M triangles;
+/// with single triangles 1 was faster than 2 and 3).
 const TRAVERSAL_COST: f32 = 1.0;
 /// Below this depth splits follow the SAH; deeper, ranges are halved by count, which bounds
 /// the depth by `SAH_DEPTH + log2(n)` (≤ 60 for the 2²⁸ triangles a leaf reference can address)
@@ -258,7 +262,7 @@ fn split(inputs: &Inputs<'_>, refs: &mut [u32], depth: u32) -> Option<usize> {
         for k in (1..BINS).rev() {
             acc = acc.union(&boxes[k]);
             count += counts[k];
-            right_cost[k] = acc.half_area() * count as f32;
+            right_cost[k] = acc.half_area() * blocks(count as usize);
         }
         // Sweep from the left and keep the cheapest plane with triangles on both sides.
         let mut acc = Aabb::EMPTY;
@@ -269,14 +273,14 @@ fn split(inputs: &Inputs<'_>, refs: &mut [u32], depth: u32) -> Option<usize> {
             if count == 0 || count as usize == n {
                 continue;
             }
-            let cost = acc.half_area() * count as f32 + right_cost[k];
+            let cost = acc.half_area() * blocks(count as usize) + right_cost[k];
             if best.is_none_or(|(c, _, _)| cost < c) {
                 best = Some((cost, axis, k));
             }
         }
     }
     let parent_area = bounds.half_area();
-    let leaf_cost = n as f32;
+    let leaf_cost = blocks(n);
     match best {
         Some((cost, axis, k)) => {
             let split_cost = TRAVERSAL_COST
@@ -298,6 +302,11 @@ fn split(inputs: &Inputs<'_>, refs: &mut [u32], depth: u32) -> Option<usize> {
         // All centroids coincide: only a split by count is possible.
         None => (n > MAX_LEAF).then_some(n / 2),
     }
+}
+
+/// Packets of [`LANES`] that `n` triangles fill: what a leaf of them costs to test.
+fn blocks(n: usize) -> f32 {
+    n.div_ceil(LANES) as f32
 }
 
 /// Moves the elements satisfying `left` to the front; returns how many there are.

@@ -1,30 +1,24 @@
-//! The bounding-volume hierarchy and its two queries.
+//! The bounding-volume hierarchy: its layout, construction glue and invariants (its queries are
+//! in [`super::traverse`]).
 //!
 //! Layout: an 8-wide tree (Wald et al. 2008; Embree's BVH8) whose nodes hold the boxes of their
 //! eight children in structure-of-arrays form, `bounds[plane][child]`, so the eight slab tests
 //! of a traversal step are lane-parallel arithmetic that LLVM turns into packed SSE
 //! (`minps`/`maxps`/`mulps`). A node is 256 bytes, four adjacent cache lines; the tree is a
 //! third as deep as a binary one, and on large scenes, where every node visited is a likely
-//! cache miss, depth is what costs. Nodes are stored depth-first, so a first child follows its parent.
-//! A child reference is a node index, or — top bit set — a leaf: `LEAF | first << 3 |
-//! (count − 1)` naming up to [`MAX_LEAF`] consecutive triangles of the re-ordered triangle
-//! array, which holds a vertex and the two edges of each (what Möller–Trumbore needs) in leaf
-//! order. Unused child slots have an inverted (empty) box, which no slab test accepts.
+//! cache miss, depth is what costs. Nodes are stored depth-first, so a first child follows its
+//! parent. A child reference is a node index, or — top bit set — a leaf: `LEAF | first << 3 |
+//! (count − 1)` naming `count` consecutive packets of four triangles ([`super::packet`]),
+//! which hold a vertex and the two edges of each (what Möller–Trumbore needs); a leaf holds up
+//! to [`MAX_LEAF`] triangles, so one or two packets, and `ids` gives the original index of
+//! each lane (padding lanes hold zero-area triangles and [`PAD`]). Unused child slots have an
+//! inverted (empty) box, which no slab test accepts.
 //!
 //! Measured against a binary tree with both child boxes in one 64-byte node (Aila & Laine
-//! 2009) and a 4-wide tree, 8 wide was fastest on both benchmark scenes: see
-//! `benches/README.md`.
-//!
-//! Traversal is ordered: of the children whose box is hit, the best is visited next and the
-//! others are pushed, the next-best last:
-//! - closest hit: nearest entry distance first (leaves included), and a popped entry is skipped
-//!   when a closer hit has been found since;
-//! - occlusion: leaf children are tested at once (cheap, and the large triangles of shallow
-//!   leaves are the likeliest blockers), interior children largest box first. Any hit ends the query, and the chance that a random ray
-//!   crossing a box hits something in it grows with the box's area (the surface-area order of
-//!   Ize & Hansen 2011, "RTSAH traversal order for occlusion rays"); measured 6× faster than
-//!   nearest-first on the 1M-triangle benchmark, whose closed room puts large walls high in
-//!   the tree.
+//! 2009) and a 4-wide tree, 8 wide was fastest on both original benchmark scenes; packets of
+//! four with the SAH counting packets made the hierarchy 35 % smaller (89 → 57 bytes per
+//! triangle at 1M triangles) and its build 35 % faster, at equal speed on the 1M-triangle
+//! scenes and 10–50 % slower on the 54-triangle Cornell box (see `benches/README.md`).
 //!
 //! The slab test (Kay & Kajiya 1986) reads each axis' near and far planes by the
 //! sign of the direction, and widens the far distance by 1 + 2γ₃ (Ize 2013, "Robust BVH ray
@@ -34,18 +28,18 @@
 use glam::Vec3;
 
 use super::build::{build, Inputs, MAX_DEPTH};
-use super::ray::{intersect, Hit, Ray};
+use super::packet::{Tri4, LANES};
 
-/// Most triangles in one leaf (the leaf reference stores count − 1 in three bits).
+/// Most triangles in one leaf: two packets (the leaf reference could name eight).
 pub(super) const MAX_LEAF: usize = 8;
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
 /// Entries of the traversal stack that always suffice: a step pushes at most `WIDTH − 1`, and
 /// there are at most [`MAX_DEPTH`] steps down.
-const DEEP_STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
+pub(super) const DEEP_STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
 /// Entries of the traversal stack used when the tree needs no more (all trees but adversarial
 /// ones): a small stack is cheaper to set up per ray.
-const SHALLOW_STACK: usize = 64;
+pub(super) const SHALLOW_STACK: usize = 64;
 /// Reference in an unused child slot.
 pub(super) const EMPTY_CHILD: u32 = u32::MAX;
 /// Leaf bit of a child reference.
@@ -115,8 +109,8 @@ impl FromIterator<Vec3> for Aabb {
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 pub(super) struct Node {
-    bounds: [[f32; WIDTH]; 6],
-    child: [u32; WIDTH],
+    pub(super) bounds: [[f32; WIDTH]; 6],
+    pub(super) child: [u32; WIDTH],
 }
 
 impl Node {
@@ -136,6 +130,39 @@ impl Node {
             bounds,
             child: refs,
         }
+    }
+
+    /// Slab tests of all children against the ray o + t·d with t in (0, `t_max`), lane by
+    /// lane: the entry distance of each child and the mask of the children hit.
+    /// `inv` is 1/d made finite and `near` the index of each axis' near plane.
+    #[inline(always)]
+    pub(super) fn slabs(
+        &self,
+        o: Vec3,
+        inv: Vec3,
+        near: [usize; 3],
+        t_max: f32,
+    ) -> ([f32; WIDTH], u32) {
+        let b = &self.bounds;
+        let [nx, ny, nz] = near;
+        let (fx, fy, fz) = (1 - nx, 5 - ny, 9 - nz);
+        let mut entry = [0f32; WIDTH];
+        let mut exit = [0f32; WIDTH];
+        for k in 0..WIDTH {
+            let tx0 = (b[nx][k] - o.x) * inv.x;
+            let ty0 = (b[ny][k] - o.y) * inv.y;
+            let tz0 = (b[nz][k] - o.z) * inv.z;
+            let tx1 = (b[fx][k] - o.x) * inv.x;
+            let ty1 = (b[fy][k] - o.y) * inv.y;
+            let tz1 = (b[fz][k] - o.z) * inv.z;
+            entry[k] = max(max(tx0, ty0), max(tz0, 0.0));
+            exit[k] = min(min(tx1, ty1), min(tz1, t_max)) * ROBUST_FAR;
+        }
+        let mut mask = 0u32;
+        for k in 0..WIDTH {
+            mask |= u32::from(entry[k] <= exit[k]) << k;
+        }
+        (entry, mask)
     }
 
     /// Box of child `k`.
@@ -160,7 +187,7 @@ pub(super) fn leaf_ref(first: usize, count: usize) -> u32 {
 }
 
 /// First position and count of a leaf reference.
-fn leaf_range(child: u32) -> (usize, usize) {
+pub(super) fn leaf_range(child: u32) -> (usize, usize) {
     (((child & !LEAF) >> 3) as usize, (child & 7) as usize + 1)
 }
 
@@ -178,6 +205,9 @@ impl Tri {
     }
 }
 
+/// Original index of a padding lane.
+pub(super) const PAD: u32 = u32::MAX;
+
 /// A bounding-volume hierarchy over a triangle soup, for closest-hit and occlusion queries.
 ///
 /// ```
@@ -192,15 +222,20 @@ impl Tri {
 /// ```
 #[derive(Clone, Debug)]
 pub struct Bvh {
-    nodes: Vec<Node>,
-    tris: Vec<Tri>,
-    /// Original index of each re-ordered triangle.
-    ids: Vec<u32>,
+    pub(super) nodes: Vec<Node>,
+    /// The leaves' triangles, in packets of [`LANES`]; a leaf reference names packets.
+    pub(super) packets: Vec<Tri4>,
+    /// Original index of the triangle in each lane of each packet ([`PAD`] for padding).
+    pub(super) ids: Vec<u32>,
+    /// Number of input triangles.
+    count: usize,
     /// Root reference; meaningless when there are no triangles.
-    root: u32,
+    pub(super) root: u32,
     bounds: Aabb,
+    /// Length of the diagonal of `bounds` (0 when empty).
+    pub(super) diagonal: f32,
     /// Most stack entries a traversal can need.
-    stack_need: usize,
+    pub(super) stack_need: usize,
 }
 
 impl Bvh {
@@ -221,10 +256,12 @@ impl Bvh {
         if tris.is_empty() {
             return Self {
                 nodes: Vec::new(),
-                tris,
+                packets: Vec::new(),
                 ids: Vec::new(),
+                count: 0,
                 root: 0,
                 bounds: Aabb::EMPTY,
+                diagonal: 0.0,
                 stack_need: 0,
             };
         }
@@ -233,16 +270,47 @@ impl Bvh {
             .map(|t| Aabb::from_points(&t.vertices()))
             .collect();
         let centroids: Vec<Vec3> = boxes.iter().map(|b| (b.min + b.max) * 0.5).collect();
-        let built = build(&Inputs {
+        let mut built = build(&Inputs {
             boxes: &boxes,
             centroids: &centroids,
         });
+        // Leaves name ranges of `order`; pack each into its own packets, in node order.
+        let mut packets = Vec::with_capacity(tris.len() / 2);
+        let mut ids = Vec::with_capacity(tris.len() * 2);
+        let mut pack = |r: u32| -> u32 {
+            let (first, count) = leaf_range(r);
+            let at = packets.len();
+            for chunk in built.order[first..first + count].chunks(LANES) {
+                let mut packet = Tri4::EMPTY;
+                for (lane, &i) in chunk.iter().enumerate() {
+                    let t = tris[i as usize];
+                    packet.set(lane, t.v0, t.e1, t.e2);
+                }
+                packets.push(packet);
+                ids.extend((0..LANES).map(|lane| chunk.get(lane).copied().unwrap_or(PAD)));
+            }
+            leaf_ref(at, packets.len() - at)
+        };
+        let root = if is_leaf(built.root) {
+            pack(built.root)
+        } else {
+            for node in &mut built.nodes {
+                for c in &mut node.child {
+                    if *c != EMPTY_CHILD && is_leaf(*c) {
+                        *c = pack(*c);
+                    }
+                }
+            }
+            built.root
+        };
         let bvh = Self {
             nodes: built.nodes,
-            tris: built.order.iter().map(|&i| tris[i as usize]).collect(),
-            ids: built.order,
-            root: built.root,
+            packets,
+            ids,
+            count: tris.len(),
+            root,
             bounds: built.bounds,
+            diagonal: (built.bounds.max - built.bounds.min).length(),
             stack_need: 0,
         };
         let bvh = Self {
@@ -256,137 +324,22 @@ impl Bvh {
     /// Number of triangles the hierarchy was built from.
     #[must_use]
     pub fn triangle_count(&self) -> usize {
-        self.tris.len()
+        self.count
+    }
+
+    /// Bytes the hierarchy holds on the heap: nodes, triangle packets and the original
+    /// indices of their lanes (the input triangles are not kept).
+    #[must_use]
+    pub fn memory_bytes(&self) -> usize {
+        std::mem::size_of_val(self.nodes.as_slice())
+            + std::mem::size_of_val(self.packets.as_slice())
+            + std::mem::size_of_val(self.ids.as_slice())
     }
 
     /// Box of all triangles ([`Aabb::EMPTY`] when there are none).
     #[must_use]
     pub fn bounds(&self) -> Aabb {
         self.bounds
-    }
-
-    /// The nearest hit with t in (0, `t_max`), if any.
-    #[must_use]
-    pub fn closest_hit(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        if self.stack_need <= SHALLOW_STACK {
-            self.traverse::<false, SHALLOW_STACK>(ray, t_max)
-        } else {
-            self.traverse::<false, DEEP_STACK>(ray, t_max)
-        }
-    }
-
-    /// Whether anything is hit with t in (0, `t_max`) (stops at the first hit found).
-    #[must_use]
-    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        if self.stack_need <= SHALLOW_STACK {
-            self.traverse::<true, SHALLOW_STACK>(ray, t_max).is_some()
-        } else {
-            self.traverse::<true, DEEP_STACK>(ray, t_max).is_some()
-        }
-    }
-
-    /// Ordered traversal; with `ANY` it returns the first hit found instead of the nearest.
-    #[inline(always)]
-    fn traverse<const ANY: bool, const STACK: usize>(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        if self.tris.is_empty() {
-            return None;
-        }
-        let o = ray.origin;
-        let d = ray.dir;
-        // Per-ray slab set-up: finite reciprocal direction, and near planes by its sign.
-        let safe = |x: f32| {
-            if x.abs() < 1e-20 {
-                1e-20f32.copysign(x)
-            } else {
-                x
-            }
-        };
-        let inv = Vec3::new(1.0 / safe(d.x), 1.0 / safe(d.y), 1.0 / safe(d.z));
-        let nx = usize::from(inv.x < 0.0);
-        let ny = 2 + usize::from(inv.y < 0.0);
-        let nz = 4 + usize::from(inv.z < 0.0);
-        let (fx, fy, fz) = (1 - nx, 5 - ny, 9 - nz);
-
-        let mut best_t = t_max;
-        let mut best: Option<(usize, f32, f32)> = None;
-        let mut stack = [(0u32, 0f32); STACK];
-        let mut sp = 0usize;
-        let mut cur = self.root;
-        loop {
-            if is_leaf(cur) {
-                if self.leaf::<ANY>(cur, o, d, &mut best_t, &mut best) && ANY {
-                    return self.hit(best, best_t);
-                }
-            } else {
-                let node = &self.nodes[cur as usize];
-                let b = &node.bounds;
-                // Slab tests of all children, lane by lane.
-                let mut near = [0f32; WIDTH];
-                let mut far = [0f32; WIDTH];
-                for k in 0..WIDTH {
-                    let tx0 = (b[nx][k] - o.x) * inv.x;
-                    let ty0 = (b[ny][k] - o.y) * inv.y;
-                    let tz0 = (b[nz][k] - o.z) * inv.z;
-                    let tx1 = (b[fx][k] - o.x) * inv.x;
-                    let ty1 = (b[fy][k] - o.y) * inv.y;
-                    let tz1 = (b[fz][k] - o.z) * inv.z;
-                    near[k] = max(max(tx0, ty0), max(tz0, 0.0));
-                    far[k] = min(min(tx1, ty1), min(tz1, best_t)) * ROBUST_FAR;
-                }
-                // Gather the children hit with their sort key: entry distance for closest
-                // hits; for occlusion leaves are tested at once and interior children keyed
-                // by minus their half area.
-                let mut todo = [(0u32, 0f32); WIDTH];
-                let mut n = 0;
-                for k in 0..WIDTH {
-                    if near[k] <= far[k] {
-                        let c = node.child[k];
-                        let key = if !ANY {
-                            near[k]
-                        } else if is_leaf(c) {
-                            if self.leaf::<ANY>(c, o, d, &mut best_t, &mut best) {
-                                return self.hit(best, best_t);
-                            }
-                            continue;
-                        } else {
-                            let dx = b[1][k] - b[0][k];
-                            let dy = b[3][k] - b[2][k];
-                            let dz = b[5][k] - b[4][k];
-                            -(dx * dy + dy * dz + dz * dx)
-                        };
-                        todo[n] = (c, key);
-                        n += 1;
-                    }
-                }
-                if n > 0 {
-                    // Sort worst first (insertion sort of at most eight), push all but the
-                    // best, go on with it.
-                    for i in 1..n {
-                        let mut j = i;
-                        while j > 0 && todo[j - 1].1 < todo[j].1 {
-                            todo.swap(j - 1, j);
-                            j -= 1;
-                        }
-                    }
-                    stack[sp..sp + n - 1].copy_from_slice(&todo[..n - 1]);
-                    sp += n - 1;
-                    cur = todo[n - 1].0;
-                    continue;
-                }
-            }
-            // Pop the next subtree that may still hold a closer hit.
-            loop {
-                if sp == 0 {
-                    return self.hit(best, best_t);
-                }
-                sp -= 1;
-                let (next, t) = stack[sp];
-                if ANY || t <= best_t {
-                    cur = next;
-                    break;
-                }
-            }
-        }
     }
 
     /// Most stack entries a traversal from reference `r` can hold: along any path down, the sum
@@ -407,45 +360,10 @@ impl Bvh {
         used.saturating_sub(1) + below
     }
 
-    /// Tests the triangles of leaf `r`, keeping the nearest hit below `best_t`; with `ANY`
-    /// stops at the first. Returns whether anything was hit.
-    #[inline(always)]
-    fn leaf<const ANY: bool>(
-        &self,
-        r: u32,
-        o: Vec3,
-        d: Vec3,
-        best_t: &mut f32,
-        best: &mut Option<(usize, f32, f32)>,
-    ) -> bool {
-        let (first, count) = leaf_range(r);
-        let mut found = false;
-        for (k, tri) in self.tris[first..first + count].iter().enumerate() {
-            if let Some((t, u, v)) = intersect(o, d, tri.v0, tri.e1, tri.e2, *best_t) {
-                *best_t = t;
-                *best = Some((first + k, u, v));
-                found = true;
-                if ANY {
-                    break;
-                }
-            }
-        }
-        found
-    }
-
-    fn hit(&self, best: Option<(usize, f32, f32)>, t: f32) -> Option<Hit> {
-        best.map(|(i, u, v)| Hit {
-            t,
-            triangle: self.ids[i],
-            u,
-            v,
-        })
-    }
-
     /// Calls `visit` with the original index of every triangle whose box overlaps `query`
     /// (boundaries included), in no particular order: a broad phase for geometric queries.
     pub fn overlapping(&self, query: &Aabb, mut visit: impl FnMut(usize)) {
-        if self.tris.is_empty() {
+        if self.packets.is_empty() {
             return;
         }
         let overlaps = |b: &Aabb| query.min.cmple(b.max).all() && b.min.cmple(query.max).all();
@@ -453,9 +371,13 @@ impl Bvh {
         while let Some(cur) = stack.pop() {
             if is_leaf(cur) {
                 let (first, count) = leaf_range(cur);
-                for k in first..first + count {
-                    if overlaps(&Aabb::from_points(&self.tris[k].vertices())) {
-                        visit(self.ids[k] as usize);
+                for p in first..first + count {
+                    for lane in 0..LANES {
+                        let id = self.ids[p * LANES + lane];
+                        let tri = self.packets[p].vertices(lane);
+                        if id != PAD && overlaps(&Aabb::from_points(&tri)) {
+                            visit(id as usize);
+                        }
                     }
                 }
                 continue;
@@ -470,34 +392,44 @@ impl Bvh {
     }
 
     /// Checks every structural invariant: child boxes inside their parent's, each node reached
-    /// once, leaf ranges in bounds and non-overlapping, every triangle referenced exactly once
-    /// and inside its leaf's box, the depth within the traversal stack, and the original
-    /// indices a permutation.
+    /// once, leaf ranges in bounds and non-overlapping, every triangle in exactly one lane and
+    /// inside its leaf's box, padding lanes of zero area, the depth within the traversal stack,
+    /// and the original indices a permutation.
     ///
     /// # Errors
     /// A description of the first violation found.
     pub fn validate(&self) -> Result<(), String> {
-        let n = self.tris.len();
-        if self.ids.len() != n {
-            return Err(format!("{} ids for {n} triangles", self.ids.len()));
+        let n = self.count;
+        let slots = self.packets.len() * LANES;
+        if self.ids.len() != slots {
+            return Err(format!("{} ids for {slots} lanes", self.ids.len()));
         }
         let mut seen_id = vec![false; n];
-        for &id in &self.ids {
-            let slot = seen_id
+        for (slot, &id) in self.ids.iter().enumerate() {
+            if id == PAD {
+                if !self.packets[slot / LANES].is_point(slot % LANES) {
+                    return Err(format!("padding lane {slot} holds a triangle"));
+                }
+                continue;
+            }
+            let seen = seen_id
                 .get_mut(id as usize)
                 .ok_or(format!("id {id} out of range"))?;
-            if std::mem::replace(slot, true) {
+            if std::mem::replace(seen, true) {
                 return Err(format!("triangle {id} stored twice"));
             }
         }
+        if let Some(id) = seen_id.iter().position(|s| !s) {
+            return Err(format!("triangle {id} stored nowhere"));
+        }
         if n == 0 {
-            return if self.nodes.is_empty() {
+            return if self.nodes.is_empty() && self.packets.is_empty() {
                 Ok(())
             } else {
                 Err("nodes without triangles".into())
             };
         }
-        let mut covered = vec![false; n];
+        let mut covered = vec![false; self.packets.len()];
         let mut visited = vec![false; self.nodes.len()];
         // (reference, box it must lie in, depth)
         let mut todo = vec![(self.root, self.bounds, 1usize)];
@@ -505,20 +437,20 @@ impl Bvh {
             if depth > MAX_DEPTH + 1 {
                 return Err(format!("depth {depth} exceeds {MAX_DEPTH} levels"));
             }
-            if !is_leaf(r) && r as usize >= self.nodes.len() {
-                return Err(format!("node {r} out of range"));
-            }
             if is_leaf(r) {
                 let (first, count) = leaf_range(r);
-                if first + count > n {
-                    return Err(format!("leaf {first}+{count} beyond {n} triangles"));
+                if first + count > self.packets.len() {
+                    return Err(format!("leaf {first}+{count} beyond the packets"));
                 }
-                for (i, c) in covered.iter_mut().enumerate().skip(first).take(count) {
-                    if std::mem::replace(c, true) {
-                        return Err(format!("triangle slot {i} in two leaves"));
+                for (p, covered) in covered.iter_mut().enumerate().skip(first).take(count) {
+                    if std::mem::replace(covered, true) {
+                        return Err(format!("packet {p} in two leaves"));
                     }
-                    if !outer.contains(&Aabb::from_points(&self.tris[i].vertices())) {
-                        return Err(format!("triangle slot {i} outside its leaf box"));
+                    for lane in 0..LANES {
+                        let tri = Aabb::from_points(&self.packets[p].vertices(lane));
+                        if self.ids[p * LANES + lane] != PAD && !outer.contains(&tri) {
+                            return Err(format!("lane {lane} of packet {p} outside its leaf"));
+                        }
                     }
                 }
                 continue;
@@ -541,8 +473,8 @@ impl Bvh {
                 todo.push((node.child[k], b, depth + 1));
             }
         }
-        if let Some(i) = covered.iter().position(|c| !c) {
-            return Err(format!("triangle slot {i} in no leaf"));
+        if let Some(p) = covered.iter().position(|c| !c) {
+            return Err(format!("packet {p} in no leaf"));
         }
         if let Some(i) = visited.iter().position(|v| !v) {
             return Err(format!("node {i} unreachable"));
@@ -599,6 +531,7 @@ fn sanitize(tri: &[Vec3; 3]) -> Tri {
 
 #[cfg(test)]
 mod tests {
+    use super::super::ray::Ray;
     use super::*;
 
     #[test]
@@ -660,39 +593,6 @@ mod tests {
         assert_eq!(bvh.validate(), Ok(()));
         bvh.nodes[0].bounds[1][0] -= 0.5;
         assert!(bvh.validate().is_err());
-    }
-
-    #[test]
-    fn deep_and_shallow_stacks_agree() {
-        // Triangles on a helix: a tree that needs a few stack entries but far fewer than 64.
-        let tris: Vec<[Vec3; 3]> = (0..2000)
-            .map(|i| {
-                let a = i as f32 * 0.05;
-                let o = Vec3::new(a.cos() * 3.0, i as f32 * 0.01, a.sin() * 3.0);
-                [
-                    o,
-                    o + Vec3::new(0.2, 0.0, 0.0),
-                    o + Vec3::new(0.0, 0.2, 0.1),
-                ]
-            })
-            .collect();
-        let bvh = Bvh::build(&tris);
-        assert!(bvh.stack_need > 0 && bvh.stack_need <= SHALLOW_STACK);
-        for i in 0..500 {
-            let a = i as f32 * 0.37;
-            let ray = Ray::new(
-                Vec3::new(0.0, i as f32 * 0.04, 0.0),
-                Vec3::new(a.cos(), (a * 3.0).sin() * 0.3, a.sin()),
-            );
-            assert_eq!(
-                bvh.traverse::<false, SHALLOW_STACK>(&ray, f32::INFINITY),
-                bvh.traverse::<false, DEEP_STACK>(&ray, f32::INFINITY)
-            );
-            assert_eq!(
-                bvh.traverse::<true, SHALLOW_STACK>(&ray, 2.0).is_some(),
-                bvh.traverse::<true, DEEP_STACK>(&ray, 2.0).is_some()
-            );
-        }
     }
 
     #[test]

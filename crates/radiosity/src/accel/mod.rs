@@ -5,9 +5,12 @@
 //! in O(log n) expected time by testing nested boxes before triangles.
 //!
 //! - [`ray`]: [`Ray`], [`Hit`] and the Möller–Trumbore ray–triangle test.
-//! - [`Bvh`]: the hierarchy, built with the binned surface-area heuristic
-//!   (MacDonald & Booth 1990; Wald 2007), collapsed to 8-wide nodes, traversed in order
-//!   (nearest child first for closest hits, largest first for occlusion).
+//! - [`Bvh`] (`bvh`): the hierarchy, built with the binned surface-area heuristic
+//!   (MacDonald & Booth 1990; Wald 2007, `build`), collapsed to 8-wide nodes whose leaves hold
+//!   packets of four triangles tested together (`packet`).
+//! - `traverse`: the closest-hit and occlusion queries, ordered (nearest child first for
+//!   closest hits; largest first for long occlusion rays, nearest first for short segments),
+//!   one ray at a time or four interleaved so that their cache misses overlap.
 //! - [`bench`]: the ray-throughput benchmark measured against Intel Embree
 //!   (`benches/README.md`).
 //!
@@ -17,7 +20,9 @@
 pub mod bench;
 mod build;
 pub mod bvh;
+mod packet;
 pub mod ray;
+mod traverse;
 
 pub use bvh::{Aabb, Bvh};
 pub use ray::{Hit, Ray};
