@@ -53,15 +53,34 @@ fn long_render(dir: &Path) -> Command {
 }
 
 /// Runs `cmd`, sends it SIGINT after 3 s and waits for it.
-fn interrupted_after_3_s(mut cmd: Command) -> Output {
+fn interrupted_after_3_s(cmd: Command) -> Output {
+    interrupted_after(cmd, Duration::from_secs(3)).0
+}
+
+/// Runs `cmd`, sends it SIGINT after `delay` and waits for it; also returns the time from the
+/// signal to its exit.
+fn interrupted_after(mut cmd: Command, delay: Duration) -> (Output, Duration) {
     let child = cmd.spawn().expect("spawns");
-    std::thread::sleep(Duration::from_secs(3));
+    std::thread::sleep(delay);
+    let asked = std::time::Instant::now();
     let killed = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
         .expect("kill runs");
     assert!(killed.success());
-    child.wait_with_output().expect("waits")
+    let out = child.wait_with_output().expect("waits");
+    (out, asked.elapsed())
+}
+
+/// Checks that a resumed run succeeded with the uninterrupted run's objects and iterations
+/// (`resumed.json` against `full.json` in `dir`).
+fn assert_resumed_like_full(dir: &Path, resumed: &Output) {
+    let stderr = String::from_utf8_lossy(&resumed.stderr);
+    assert!(resumed.status.success(), "{stderr}");
+    assert_eq!(
+        stats_iterations(&dir.join("resumed.json")),
+        stats_iterations(&dir.join("full.json"))
+    );
 }
 
 #[test]
@@ -331,17 +350,8 @@ fn sigint_in_the_form_factor_stage_leaves_a_checkpoint_that_resumes_to_the_same_
     let state = state.to_str().expect("utf-8 path");
     let full = solve(&[], "full.json").output().expect("runs");
     assert!(full.status.success());
-    let child = solve(&["--checkpoint", state], "cut.json")
-        .spawn()
-        .expect("spawns");
-    std::thread::sleep(Duration::from_secs(2));
-    let asked = std::time::Instant::now();
-    Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill runs");
-    let out = child.wait_with_output().expect("waits");
-    let latency = asked.elapsed();
+    let cut = solve(&["--checkpoint", state], "cut.json");
+    let (out, latency) = interrupted_after(cut, Duration::from_secs(2));
     assert_eq!(out.status.code(), Some(130));
     assert!(latency < Duration::from_secs(2), "{latency:?}");
     let cut: serde_json::Value =
@@ -351,12 +361,7 @@ fn sigint_in_the_form_factor_stage_leaves_a_checkpoint_that_resumes_to_the_same_
     let resumed = solve(&["--resume", state], "resumed.json")
         .output()
         .expect("runs");
-    let stderr = String::from_utf8_lossy(&resumed.stderr);
-    assert!(resumed.status.success(), "{stderr}");
-    assert_eq!(
-        stats_iterations(&dir.join("resumed.json")),
-        stats_iterations(&dir.join("full.json"))
-    );
+    assert_resumed_like_full(&dir, &resumed);
     std::fs::remove_dir_all(&dir).expect("cleanup");
 }
 
@@ -391,12 +396,7 @@ fn an_interrupted_hierarchical_solve_resumes_to_the_same_answer() {
     let resumed = solve(&["--resume", state], "resumed.json")
         .output()
         .expect("runs");
-    let stderr = String::from_utf8_lossy(&resumed.stderr);
-    assert!(resumed.status.success(), "{stderr}");
-    assert_eq!(
-        stats_iterations(&dir.join("resumed.json")),
-        stats_iterations(&dir.join("full.json"))
-    );
+    assert_resumed_like_full(&dir, &resumed);
     std::fs::remove_dir_all(&dir).expect("cleanup");
 }
 
@@ -411,15 +411,7 @@ fn sigint_while_meshing_stops_at_once_and_writes_nothing() {
         .arg("--stats")
         .arg(dir.join("stats.json"))
         .stderr(Stdio::piped());
-    let child = cmd.spawn().expect("spawns");
-    std::thread::sleep(Duration::from_millis(700));
-    let asked = std::time::Instant::now();
-    Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill runs");
-    let out = child.wait_with_output().expect("waits");
-    let latency = asked.elapsed();
+    let (out, latency) = interrupted_after(cmd, Duration::from_millis(700));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{stderr}");
     assert!(latency < Duration::from_secs(1), "{latency:?}");

@@ -12,8 +12,9 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use radiosity::io::gltf::{write_glb, Placement, VertexColours};
-use radiosity::io::{html, image_file, ply};
+use radiosity::io::export;
+use radiosity::io::gltf::VertexColours;
+use radiosity::io::image_file;
 use radiosity::mesh::Subdivision;
 use radiosity::pipeline::{self, Settings};
 use radiosity::progress::Silent;
@@ -49,33 +50,17 @@ fn main() -> Result<()> {
         Ok(image_file::write_image(&png, &image, exposure)?)
     })?;
 
-    // Export the lit mesh and the viewer, named after the scene's objects.
-    let names: Vec<String> = solved
-        .scene
-        .objects
-        .iter()
-        .map(|o| o.name.clone())
-        .collect();
+    // Export the lit mesh and the viewer (the same exposure as the picture), in every format.
+    let options = export::Options {
+        colours: VertexColours::Exposure(exposure),
+        cameras: &solved.scene.cameras,
+        aspect: 1.0,
+    };
+    for (format, extension) in export::Format::ALL {
+        let path = out.join(format!("{name}.{extension}"));
+        timed(&path, || Ok(format.write(&path, &solved, &options)?))?;
+    }
     let glb = out.join(format!("{name}.glb"));
-    timed(&glb, || {
-        Ok(write_glb(
-            &glb,
-            &solved.lit,
-            &names,
-            VertexColours::Exposure(exposure),
-            &Placement {
-                metres_per_unit: solved.scene.units.metres(),
-                cameras: &solved.scene.cameras,
-                aspect: 1.0,
-            },
-        )?)
-    })?;
-    let ply = out.join(format!("{name}.ply"));
-    timed(&ply, || Ok(ply::write_ply(&ply, &solved.lit, &names)?))?;
-    let page = out.join(format!("{name}.html"));
-    timed(&page, || {
-        Ok(html::write_solved(&page, &solved, Some(exposure))?)
-    })?;
     let svg = out.join(format!("{name}-convergence.svg"));
     timed(&svg, || {
         let history = &solved.solution.history;

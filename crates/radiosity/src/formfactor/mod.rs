@@ -30,6 +30,7 @@ pub mod analytic;
 pub(crate) mod exposure;
 pub mod hemicube;
 pub mod raycast;
+pub(crate) mod visibility;
 
 use glam::{DVec3, Vec3};
 

@@ -28,8 +28,8 @@
 //! a ray neither hits the polygon it starts from nor the one it aims at; on the front side, the
 //! lifted points of two faces meeting at an edge see each other through free space.
 
+use super::visibility::{jitter, quadrant, ShadowRays};
 use super::{column_with, pair_unoccluded, row_with, FormFactors, Geometry, Receiver};
-use crate::accel::Ray;
 use crate::hash::mix;
 use crate::mesh::Face;
 
@@ -93,41 +93,15 @@ impl RayCast {
         let normal = |patch: u32| g.mesh.patches[patch as usize].normal;
         let (n_from, n_to) = (normal(g.mesh.element(e).patch), normal(g.source_patch(s)));
         let pair = mix(mix(mix(self.seed) ^ e as u64) ^ s as u64);
-        // Casts one ray; returns its kernel weight cosθ_i cosθ_j / r² and whether it arrives.
-        // The kernel is taken between the points on the surfaces, the ray between the lifted
-        // ones: where two faces are closer than twice the lift (an emitter 1 mm in front of a
-        // wall), the lifted ends pass each other and their difference points backwards.
-        let cast = |(u, v): (f32, f32), (su, sv): (f32, f32)| {
-            let (x, y) = (from.point(u, v), to.point(su, sv));
-            let origin = x + n_from * lift;
-            let target = y + n_to * lift;
-            let d = (y - x).as_dvec3();
-            let weight = (d.dot(n_from.as_dvec3()).max(0.0) * (-d.dot(n_to.as_dvec3())).max(0.0))
-                / d.length_squared().powi(2).max(f64::MIN_POSITIVE);
-            let arrives = !g.bvh.occluded(&Ray::new(origin, target - origin), 1.0);
-            (weight, arrives)
-        };
-        let jitter = |bits: u64, i: u32| (((bits >> (16 * i)) & 0xFFFF) as f32 + 0.5) / 65536.0;
-        // Kernel-weighted sums over all rays cast: total and arriving.
-        let (mut total, mut visible) = (0.0, 0.0);
-        let mut add = |(weight, arrives): (f64, bool)| {
-            total += weight;
-            if arrives {
-                visible += weight;
-            }
-            arrives
-        };
+        let mut rays = ShadowRays::new(g.bvh, (from, n_from), (to, n_to), lift);
         if self.rays > PILOT {
             let mut arrived = 0;
             for k in 0..PILOT {
                 let bits = mix(!pair ^ u64::from(k));
                 // Quadrant k on the receiver, the opposite quadrant on the source.
-                let quadrant = |q: u32, ju: f32, jv: f32| {
-                    (((q & 1) as f32 + ju) * 0.5, ((q >> 1) as f32 + jv) * 0.5)
-                };
                 let from_point = quadrant(k, jitter(bits, 0), jitter(bits, 1));
                 let to_point = quadrant(3 - k, jitter(bits, 2), jitter(bits, 3));
-                arrived += u32::from(add(cast(from_point, to_point)));
+                arrived += u32::from(rays.cast(from_point, to_point));
             }
             if arrived == 0 || arrived == PILOT {
                 return f64::from(arrived / PILOT);
@@ -140,13 +114,9 @@ impl RayCast {
             let permuted = ((u64::from(self.step) * u64::from(k) + u64::from(offset))
                 % u64::from(self.rays)) as u32;
             let target = self.cell(permuted, jitter(bits, 2), jitter(bits, 3));
-            add(cast((u, v), target));
+            rays.cast((u, v), target);
         }
-        if total > 0.0 {
-            visible / total
-        } else {
-            0.0
-        }
+        rays.fraction().unwrap_or(0.0)
     }
 
     /// The point of cell `k` of the stratification grid at offset (ju, jv) within the cell.

@@ -41,15 +41,26 @@ pub fn write_atomic(
 
 /// The temporary file for `path`: `.{name}.tmp-{pid}-{n}` in the same directory.
 fn temporary_path(path: &Path) -> io::Result<PathBuf> {
-    let name = path.file_name().ok_or_else(|| {
+    let name = file_part(path, path.file_name())?;
+    Ok(path.with_file_name(format!(".{name}.{}", unique())))
+}
+
+/// `part` of `path` as text, or an [`io::ErrorKind::InvalidInput`] error naming `path` when it
+/// has none (a path without a file name).
+fn file_part(path: &Path, part: Option<&std::ffi::OsStr>) -> io::Result<String> {
+    let part = part.ok_or_else(|| {
         io::Error::new(
             io::ErrorKind::InvalidInput,
             format!("{} is not a file path", path.display()),
         )
     })?;
+    Ok(part.to_string_lossy().into_owned())
+}
+
+/// `tmp-{pid}-{n}`, different for every call in this process and from other processes'.
+fn unique() -> String {
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let tmp_name = format!(".{}.tmp-{}-{n}", name.to_string_lossy(), std::process::id());
-    Ok(path.with_file_name(tmp_name))
+    format!("tmp-{}-{n}", std::process::id())
 }
 
 fn write_then_rename(
@@ -89,14 +100,8 @@ impl Batch {
     /// # Errors
     /// A path without a file name ([`io::ErrorKind::InvalidInput`]).
     pub fn stage(&mut self, path: &Path) -> io::Result<PathBuf> {
-        let stem = path.file_stem().ok_or_else(|| {
-            io::Error::new(
-                io::ErrorKind::InvalidInput,
-                format!("{} is not a file path", path.display()),
-            )
-        })?;
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let mut name = format!(".{}.tmp-{}-{n}", stem.to_string_lossy(), std::process::id());
+        let stem = file_part(path, path.file_stem())?;
+        let mut name = format!(".{stem}.{}", unique());
         if let Some(extension) = path.extension() {
             name = format!("{name}.{}", extension.to_string_lossy());
         }

@@ -37,6 +37,7 @@ use glam::{DVec3, Vec3};
 use super::cluster::Clusters;
 use crate::accel::{Bvh, Ray};
 use crate::formfactor::analytic::{point_to_polygon, solid_angle};
+use crate::formfactor::visibility::{jitter, quadrant, ShadowRays};
 use crate::formfactor::{facing, Receiver};
 use crate::hash::mix;
 use crate::mesh::Mesh;
@@ -434,21 +435,8 @@ impl<'a> View<'a> {
         let normal = |p: u32| self.mesh.patches[p as usize].normal;
         let (n_r, n_s) = (normal(nr.patch), normal(ns.patch));
         let pair = mix(mix(u64::from(r)) ^ u64::from(s));
-        let (mut total, mut visible) = (0.0, 0.0);
-        let mut cast = |(u, v): (f32, f32), (su, sv): (f32, f32)| {
-            let (from, to) = (nr.face.point(u, v), ns.face.point(su, sv));
-            let d = (to - from).as_dvec3();
-            let weight = (d.dot(n_r.as_dvec3()).max(0.0) * (-d.dot(n_s.as_dvec3())).max(0.0))
-                / d.length_squared().powi(2).max(f64::MIN_POSITIVE);
-            let arrives = self.arrives(from, n_r, to, n_s);
-            total += weight;
-            if arrives {
-                visible += weight;
-            }
-            arrives
-        };
-        let quadrant =
-            |q: u32, ju: f32, jv: f32| (((q & 1) as f32 + ju) * 0.5, ((q >> 1) as f32 + jv) * 0.5);
+        let mut rays = ShadowRays::new(self.bvh, (&nr.face, n_r), (&ns.face, n_s), self.lift);
+        let mut cast = |from, to| rays.cast(from, to);
         let mut arrived = 0;
         for k in 0..PILOT {
             let bits = mix(!pair ^ u64::from(k));
@@ -476,11 +464,8 @@ impl<'a> View<'a> {
             let to = cell((5 * k + offset) % RAYS, jitter(bits, 2), jitter(bits, 3));
             arrived += u32::from(cast(from, to));
         }
-        if total > 0.0 {
-            visible / total
-        } else {
-            f64::from(arrived) / f64::from(PILOT + RAYS)
-        }
+        rays.fraction()
+            .unwrap_or(f64::from(arrived) / f64::from(PILOT + RAYS))
     }
 
     /// Fraction of [`PILOT`] rays between points of front-facing member faces that arrive;
@@ -540,9 +525,4 @@ fn touching(a: &crate::mesh::Face, b: &crate::mesh::Face, na: Vec3, nb: Vec3) ->
             .any(|&q| n.dot(q - p).abs() <= tolerance)
     };
     on(a, na, b) && on(b, nb, a)
-}
-
-/// Sixteen bits of `bits` as a jitter in (0, 1).
-fn jitter(bits: u64, i: u32) -> f32 {
-    (((bits >> (16 * i)) & 0xFFFF) as f32 + 0.5) / 65536.0
 }
