@@ -13,6 +13,7 @@ stage: runs, the stage each run was stopped in, and the largest and median laten
 """
 
 import argparse
+import json
 import os
 import random
 import re
@@ -29,12 +30,14 @@ STAGES = {
                 r"interrupted while meshing"),
     "form-factors": (["solve", "cornell", "--stats", "{out}/s.json"], (0.5, 5.0),
                      r"interrupted after 0 iterations"),
-    "gauss-seidel": (["solve", "cornell", "--elements", "4000", "--rays", "1", "--quadrature", "1",
-                      "--tolerance", "1e-300", "--max-iterations", "100000000",
-                      "--stats", "{out}/s.json"], (5.3, 6.5), r"interrupted after [1-9]"),
+    # The sweeps follow the form factors: their window is measured by a first, whole run
+    # (`None`: from its stats, the middle of the sweeps).
+    "gauss-seidel": (["solve", "cornell", "--elements", "6000", "--rays", "1", "--quadrature",
+                      "1", "--tolerance", "1e-300", "--max-iterations", "100000000",
+                      "--stats", "{out}/s.json"], None, r"interrupted after [1-9]"),
     "jacobi": (["solve", "cornell", "--solver", "jacobi", "--elements", "6000", "--rays", "1",
                 "--quadrature", "1", "--tolerance", "1e-300", "--max-iterations", "100000000",
-                "--stats", "{out}/s.json"], (9.0, 12.0), r"interrupted after [1-9]"),
+                "--stats", "{out}/s.json"], None, r"interrupted after [1-9]"),
     "progressive": (["solve", "cornell", "--solver", "progressive", "--elements", "3000",
                      "--tolerance", "1e-12", "--stats", "{out}/s.json"], (0.5, 5.0),
                     r"interrupted after [1-9]"),
@@ -68,6 +71,22 @@ def one(binary, args, at):
         return latency, proc.returncode, lines[-1] if lines else ""
 
 
+def sweep_window(binary, args):
+    """The middle of the sweeps of a whole run of `binary args`: from the end of the form
+    factors plus a fifth of the sweeps to the end of the form factors plus three fifths."""
+    with tempfile.TemporaryDirectory() as out:
+        argv = [binary] + [a.format(out=out) for a in args]
+        start = time.monotonic()
+        subprocess.run(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True)
+        total = time.monotonic() - start
+        with open(os.path.join(out, "s.json")) as f:
+            timings = json.load(f)["timings"]
+    solve = timings["solve"]
+    # Process start-up and writing are outside the stats' stages: put them before the sweeps.
+    before = total - solve
+    return before + 0.2 * solve, before + 0.6 * solve
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bin", default="target/release/radiosity")
@@ -78,7 +97,8 @@ def main():
     rng = random.Random(opts.seed)
     worst_overall = 0.0
     for name in opts.stages:
-        args, (a, b), expect = STAGES[name]
+        args, window, expect = STAGES[name]
+        a, b = window or sweep_window(os.path.abspath(opts.bin), args)
         latencies, problems = [], []
         for _ in range(opts.runs):
             at = rng.uniform(a, b)
