@@ -83,12 +83,6 @@ pub struct Control {
 }
 
 impl Control {
-    /// Whether checkpoints are asked for or given.
-    #[must_use]
-    pub fn uses_checkpoints(&self) -> bool {
-        self.checkpoint.is_some() || self.resume.is_some()
-    }
-
     /// Whether the stop flag is set.
     #[must_use]
     pub fn stopped(&self) -> bool {
