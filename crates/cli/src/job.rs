@@ -147,7 +147,8 @@ fn render_job(args: &RenderArgs) -> Result<()> {
         // A ray-traced picture takes seconds to minutes: after a Ctrl-C the run ends now.
         say(
             common,
-            "not rendered: the solve was interrupted (the stats and exports hold the solution              so far; --mode radiosity pictures it at once)",
+            "not rendered: the solve was interrupted (the stats and exports hold the solution \
+             so far; --mode radiosity pictures it at once)",
         );
     } else {
         let image = picture::render_mode(
