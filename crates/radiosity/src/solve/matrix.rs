@@ -63,7 +63,7 @@ impl Matrix {
         limit: u64,
         progress: &dyn Progress,
     ) -> Result<Self, SolveError> {
-        Self::fill(g, ff, limit, None, None, progress)
+        Self::resume(g, ff, limit, None, None, progress)
     }
 
     /// [`Matrix::compute`], taking the chunks already done in `prior` (a matrix of the same
@@ -71,17 +71,6 @@ impl Matrix {
     /// result is then partial ([`Matrix::complete`] is false). Every row depends on its element
     /// only, so the rows taken from `prior` are those this run would compute.
     pub(super) fn resume(
-        g: &Geometry,
-        ff: &dyn FormFactors,
-        limit: u64,
-        stop: Option<&AtomicBool>,
-        prior: Option<&Matrix>,
-        progress: &dyn Progress,
-    ) -> Result<Self, SolveError> {
-        Self::fill(g, ff, limit, stop, prior, progress)
-    }
-
-    fn fill(
         g: &Geometry,
         ff: &dyn FormFactors,
         limit: u64,

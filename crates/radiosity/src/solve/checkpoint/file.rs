@@ -16,7 +16,7 @@
 
 use std::io::{self, Read, Write};
 
-use super::Checkpoint;
+use super::{Checkpoint, Iterate};
 use crate::solve::hierarchical::Snapshot;
 use crate::solve::matrix::{Matrix, CHUNK_ROWS};
 use crate::Rgb;
@@ -38,12 +38,13 @@ impl Checkpoint {
         e.u32(FORMAT)?;
         e.u64(self.fingerprint)?;
         e.bytes(self.method.as_bytes())?;
-        e.usize(self.iterations)?;
-        e.f64(self.residual)?;
-        e.u64(self.links)?;
-        e.rgbs(&self.radiosity)?;
-        e.rgbs(&self.irradiance)?;
-        e.rgbs(&self.unshot)?;
+        let state = &self.state;
+        e.usize(state.iterations)?;
+        e.f64(state.residual)?;
+        e.u64(state.links)?;
+        e.rgbs(&state.radiosity)?;
+        e.rgbs(&state.irradiance)?;
+        e.rgbs(&state.unshot)?;
         match &self.matrix {
             None => e.u8(0)?,
             Some(m) => {
@@ -51,7 +52,7 @@ impl Checkpoint {
                 write_matrix(&mut e, m)?;
             }
         }
-        match &self.hierarchy {
+        match &state.hierarchy {
             None => e.u8(0),
             Some(h) => {
                 e.u8(1)?;
@@ -99,14 +100,16 @@ impl Checkpoint {
         Ok(Self {
             fingerprint,
             method,
-            iterations,
-            residual,
-            links,
-            radiosity,
-            irradiance,
-            unshot,
             matrix,
-            hierarchy,
+            state: Iterate {
+                iterations,
+                residual,
+                links,
+                radiosity,
+                irradiance,
+                unshot,
+                hierarchy,
+            },
         })
     }
 }

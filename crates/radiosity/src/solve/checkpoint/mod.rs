@@ -99,33 +99,29 @@ pub struct Checkpoint {
     fingerprint: u64,
     /// The solver's name.
     method: String,
-    /// Sweeps, shots or gather iterations done.
-    iterations: usize,
-    /// The residual after them.
-    residual: f64,
-    /// Non-zero form factors used so far (progressive).
-    links: u64,
-    /// B per element (gathering and progressive solvers).
-    radiosity: Vec<Rgb>,
-    /// Irradiance gathered so far per element (progressive; empty otherwise).
-    irradiance: Vec<Rgb>,
-    /// Unshot radiosity per source (progressive; empty otherwise).
-    unshot: Vec<Rgb>,
     /// The form-factor rows computed so far (gathering solvers).
     matrix: Option<Matrix>,
-    /// The refined hierarchy (hierarchical solver).
-    hierarchy: Option<Snapshot>,
+    /// The solver's state.
+    state: Iterate,
 }
 
-/// An iterate handed to or taken from a checkpoint.
-#[derive(Default)]
+/// An iterate handed to or taken from a checkpoint: the solver's state at an iteration
+/// boundary.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub(super) struct Iterate {
+    /// Sweeps, shots or gather iterations done.
     pub iterations: usize,
+    /// The residual after them.
     pub residual: f64,
+    /// Non-zero form factors used so far (progressive).
     pub links: u64,
+    /// B per element (gathering and progressive solvers).
     pub radiosity: Vec<Rgb>,
+    /// Irradiance gathered so far per element (progressive; empty otherwise).
     pub irradiance: Vec<Rgb>,
+    /// Unshot radiosity per source (progressive; empty otherwise).
     pub unshot: Vec<Rgb>,
+    /// The refined hierarchy (hierarchical solver).
     pub hierarchy: Option<Snapshot>,
 }
 
@@ -133,7 +129,7 @@ impl Checkpoint {
     /// Sweeps, shots or gather iterations done when the checkpoint was taken.
     #[must_use]
     pub fn iterations(&self) -> usize {
-        self.iterations
+        self.state.iterations
     }
 
     /// Whether it holds form-factor rows, and whether all of them: `None` for the solvers that
@@ -143,30 +139,12 @@ impl Checkpoint {
         self.matrix.as_ref().map(Matrix::complete)
     }
 
-    fn new(session: &Session, it: Iterate) -> Self {
+    fn new(session: &Session, state: Iterate) -> Self {
         Self {
             fingerprint: session.problem.fingerprint,
             method: session.method.name().to_owned(),
-            iterations: it.iterations,
-            residual: it.residual,
-            links: it.links,
-            radiosity: it.radiosity,
-            irradiance: it.irradiance,
-            unshot: it.unshot,
             matrix: session.matrix.clone(),
-            hierarchy: it.hierarchy,
-        }
-    }
-
-    fn iterate(&self) -> Iterate {
-        Iterate {
-            iterations: self.iterations,
-            residual: self.residual,
-            links: self.links,
-            radiosity: self.radiosity.clone(),
-            irradiance: self.irradiance.clone(),
-            unshot: self.unshot.clone(),
-            hierarchy: self.hierarchy.clone(),
+            state,
         }
     }
 }
@@ -247,12 +225,13 @@ impl<'a> Session<'a> {
                 .matrix
                 .as_ref()
                 .is_none_or(|m| m.shape() == (problem.elements, problem.sources));
+            let state = &cp.state;
             if cp.fingerprint != problem.fingerprint
-                || cp.radiosity.len() != radiosity
-                || cp.irradiance.len() != irradiance
-                || cp.unshot.len() != unshot
+                || state.radiosity.len() != radiosity
+                || state.irradiance.len() != irradiance
+                || state.unshot.len() != unshot
                 || !matrix_fits
-                || cp.hierarchy.is_some() != hierarchical
+                || state.hierarchy.is_some() != hierarchical
             {
                 return mismatch(
                     "it was made for a different scene, subdivision or form-factor settings"
@@ -271,7 +250,7 @@ impl<'a> Session<'a> {
 
     /// The iterate to start from, if resuming.
     pub fn resume(&self) -> Option<Iterate> {
-        self.control.resume.as_ref().map(Checkpoint::iterate)
+        self.control.resume.as_ref().map(|cp| cp.state.clone())
     }
 
     /// The form factors of the checkpoint resumed from, if any.

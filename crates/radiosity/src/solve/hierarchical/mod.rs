@@ -225,10 +225,11 @@ pub fn run(
     let mut peak = 0;
     let (mut done, mut clock) = (0, 0.0);
     // The state at the end of the last whole pass, for the checkpoint taken on a stop.
-    let mut last: Option<(Snapshot, usize, f64)> = None;
+    let mut last: Option<Iterate> = None;
     if let Some(it) = session.resume() {
         let snap = it
             .hierarchy
+            .as_ref()
             .unwrap_or_else(|| unreachable!("checked by Session::new"));
         mesh.refine(&snap.splits);
         state.grow(mesh);
@@ -249,7 +250,7 @@ pub fn run(
         out.history.clone_from(&snap.history);
         clock = snap.history.last().map_or(0.0, |h| h.seconds);
         done = snap.passes;
-        last = Some((snap, it.iterations, it.residual));
+        last = Some(it);
     }
     let passes = STAGES + FINAL_PASSES + DISPLAY_PASSES;
     progress.start("hierarchical", u64::from(passes));
@@ -351,19 +352,18 @@ pub fn run(
                 seconds: (out.refine_seconds, out.solve_seconds),
                 peak,
             };
-            session.after_iteration(false, || snapshot_iterate(&snap, &out));
-            last = Some((snap, out.iterations, out.residual));
-        }
-    }
-    if out.interrupted {
-        if let Some((snap, iterations, residual)) = last {
-            session.after_iteration(true, || Iterate {
-                iterations,
-                residual,
+            let it = Iterate {
+                iterations: out.iterations,
+                residual: out.residual,
                 hierarchy: Some(snap),
                 ..Iterate::default()
-            });
+            };
+            session.after_iteration(false, || it.clone());
+            last = Some(it);
         }
+    }
+    if let Some(it) = last.filter(|_| out.interrupted) {
+        session.after_iteration(true, || it);
     }
     progress.finish();
     out.irradiance = state.element_irradiance(mesh);
@@ -377,16 +377,6 @@ pub fn run(
     out.stats.peak_memory_bytes = peak;
     out.node_radiosity = state.node_b;
     Ok(out)
-}
-
-/// The checkpoint iterate of a pass's snapshot.
-fn snapshot_iterate(snap: &Snapshot, out: &Outcome) -> Iterate {
-    Iterate {
-        iterations: out.iterations,
-        residual: out.residual,
-        hierarchy: Some(snap.clone()),
-        ..Iterate::default()
-    }
 }
 
 /// The largest channel of B of every node and cluster, for the oracle.
