@@ -72,6 +72,18 @@ fn interrupted_after(mut cmd: Command, delay: Duration) -> (Output, Duration) {
     (out, asked.elapsed())
 }
 
+/// `radiosity solve cornell FLAGS EXTRA --stats DIR/STATS`, its stderr captured.
+fn cornell_solve(dir: &Path, flags: &[&str], extra: &[&str], stats: &str) -> Command {
+    let mut cmd = radiosity();
+    cmd.args(["solve", "cornell"])
+        .args(flags)
+        .args(extra)
+        .arg("--stats")
+        .arg(dir.join(stats))
+        .stderr(Stdio::piped());
+    cmd
+}
+
 /// Checks that a resumed run succeeded with the uninterrupted run's objects and iterations
 /// (`resumed.json` against `full.json` in `dir`).
 fn assert_resumed_like_full(dir: &Path, resumed: &Output) {
@@ -336,63 +348,52 @@ fn sigint_in_the_form_factor_stage_leaves_a_checkpoint_that_resumes_to_the_same_
     // The form factors are ~95 % of a Gauss-Seidel run (6 s here, meshing 0.05 s): the signal
     // at 2 s falls among them. The checkpoint keeps the rows computed so far; resumed, the
     // run computes the rest and ends with the uninterrupted run's answer, bit for bit.
-    let dir = scratch("sigint-form-factors");
-    let solve = |extra: &[&str], stats: &str| {
-        let mut cmd = radiosity();
-        cmd.args(["solve", "cornell", "--elements", "2500", "-q"])
-            .args(extra)
-            .arg("--stats")
-            .arg(dir.join(stats))
-            .stderr(Stdio::piped());
-        cmd
-    };
-    let state = dir.join("state.ckpt");
-    let state = state.to_str().expect("utf-8 path");
-    let full = solve(&[], "full.json").output().expect("runs");
-    assert!(full.status.success());
-    let cut = solve(&["--checkpoint", state], "cut.json");
-    let (out, latency) = interrupted_after(cut, Duration::from_secs(2));
-    assert_eq!(out.status.code(), Some(130));
-    assert!(latency < Duration::from_secs(2), "{latency:?}");
-    let cut: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(dir.join("cut.json")).expect("stats")).expect("json");
-    assert_eq!(cut["solver"]["interrupted"], true);
-    assert_eq!(cut["solver"]["iterations"], 0);
-    let resumed = solve(&["--resume", state], "resumed.json")
-        .output()
-        .expect("runs");
-    assert_resumed_like_full(&dir, &resumed);
-    std::fs::remove_dir_all(&dir).expect("cleanup");
+    let flags = ["--elements", "2500", "-q"];
+    resume_after_sigint("sigint-form-factors", &flags, 2, |dir, latency| {
+        assert!(latency < Duration::from_secs(2), "{latency:?}");
+        let cut: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(dir.join("cut.json")).expect("stats"))
+                .expect("json");
+        assert_eq!(cut["solver"]["interrupted"], true);
+        assert_eq!(cut["solver"]["iterations"], 0);
+    });
 }
 
 #[test]
 fn an_interrupted_hierarchical_solve_resumes_to_the_same_answer() {
     // ε = 3·10⁻⁶ on the Cornell box: 10 s, 7 refine-and-solve passes; the signal at 3 s comes
     // after the first passes, each of which leaves a checkpoint (--checkpoint-every 0).
-    let dir = scratch("sigint-hierarchical-resume");
-    let solve = |extra: &[&str], stats: &str| {
-        let mut cmd = radiosity();
-        cmd.args([
-            "solve",
-            "cornell",
-            "--solver",
-            "hierarchical",
-            "--epsilon",
-            "3e-6",
-        ])
-        .args(["--checkpoint-every", "0.000001", "-q"])
-        .args(extra)
-        .arg("--stats")
-        .arg(dir.join(stats))
-        .stderr(Stdio::piped());
-        cmd
-    };
+    let flags = [
+        "--solver",
+        "hierarchical",
+        "--epsilon",
+        "3e-6",
+        "--checkpoint-every",
+        "0.000001",
+        "-q",
+    ];
+    resume_after_sigint("sigint-hierarchical-resume", &flags, 3, |_, _| {});
+}
+
+/// Solves the Cornell box with `flags` whole (`full.json`), then again with a checkpoint and
+/// SIGINT after `seconds` (`cut.json`, exit status 130, then `check(dir, latency)`), then
+/// resumed from that checkpoint: the resumed run must give the whole run's answer.
+fn resume_after_sigint(
+    name: &str,
+    flags: &[&str],
+    seconds: u64,
+    check: impl FnOnce(&Path, Duration),
+) {
+    let dir = scratch(name);
+    let solve = |extra: &[&str], stats: &str| cornell_solve(&dir, flags, extra, stats);
     let state = dir.join("state.ckpt");
     let state = state.to_str().expect("utf-8 path");
     let full = solve(&[], "full.json").output().expect("runs");
     assert!(full.status.success());
-    let out = interrupted_after_3_s(solve(&["--checkpoint", state], "cut.json"));
+    let cut = solve(&["--checkpoint", state], "cut.json");
+    let (out, latency) = interrupted_after(cut, Duration::from_secs(seconds));
     assert_eq!(out.status.code(), Some(130));
+    check(&dir, latency);
     let resumed = solve(&["--resume", state], "resumed.json")
         .output()
         .expect("runs");
