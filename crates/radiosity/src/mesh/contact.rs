@@ -127,7 +127,11 @@ impl Mesh {
             if wanted <= done {
                 let polygon = self.triangle_polygon[t] as usize;
                 let facing_light = lights[polygon].is_some_and(|n| n.dot(patch.normal) < 0.0);
+                // An outline cut into the patch's root faces leaves nothing to straddle (only
+                // its triangles' inner diagonal would seem to cross).
+                let imprinted = patch.imprinted.contains(&(polygon as u32));
                 wanted = match crosses(corners, patch.normal, &self.triangles[t], eps) {
+                    Some(Touch::Cover) if imprinted => 0,
                     Some(Touch::Cover) if facing_light => COVER_LEVELS,
                     Some(_) => CONTACT_LEVELS,
                     None => 0,

@@ -16,6 +16,7 @@ mod budget;
 mod contact;
 pub mod display;
 mod face;
+mod imprint;
 pub mod lit_mesh;
 mod near_field;
 mod patch;
@@ -492,8 +493,43 @@ mod tests {
     }
 
     #[test]
-    fn contact_lines_are_refined_and_sources_do_not_straddle_them() {
+    fn a_bottom_lying_on_the_floor_is_cut_into_it_exactly() {
         let mesh = Mesh::build(&cube_on_floor(true), Subdivision::Elements(64));
+        mesh.validate().unwrap();
+        assert_eq!(mesh.patches[0].imprinted, vec![1], "the cube's bottom");
+        // The footprint x ∈ [−0.4321, 0.5679], z ∈ [−0.3456, 0.6544]: every floor element lies
+        // wholly inside or wholly outside it, and those inside make up its area.
+        let (x0, z0) = (-0.4321f32, -0.3456f32);
+        let (mut under, t) = (0.0, 1e-5);
+        for e in mesh.roots[0]
+            .clone()
+            .flat_map(|r| mesh.nodes[r as usize].elements.clone())
+        {
+            let c = mesh.element(e as usize).face.corners();
+            let inside = c.iter().all(|p| {
+                (x0 - t..=x0 + 1.0 + t).contains(&p.x) && (z0 - t..=z0 + 1.0 + t).contains(&p.z)
+            });
+            let outside = c.iter().all(|p| p.x <= x0 + t)
+                || c.iter().all(|p| p.x >= x0 + 1.0 - t)
+                || c.iter().all(|p| p.z <= z0 + t)
+                || c.iter().all(|p| p.z >= z0 + 1.0 - t);
+            assert!(
+                inside || outside,
+                "element {e} straddles the footprint: {c:?}"
+            );
+            if inside {
+                under += mesh.element(e as usize).face.area();
+            }
+        }
+        assert!((under - 1.0).abs() < 1e-5, "{under}");
+    }
+
+    #[test]
+    fn contact_lines_are_refined_and_sources_do_not_straddle_them() {
+        // Without its bottom the cube's footprint is only where its walls cross the floor.
+        let mut scene = cube_on_floor(true);
+        scene.polygons.remove(1);
+        let mesh = Mesh::build(&scene, Subdivision::Elements(64));
         // The floor's elements under the cube's footprint edges go CONTACT_LEVELS deeper.
         let floor: Vec<u8> = mesh.nodes[mesh.roots[0].start as usize]
             .elements
@@ -546,11 +582,14 @@ mod tests {
                 emission: Rgb::ONE,
                 ..Material::default()
             });
-            let (a, b, h) = (0.2345, 0.7321, 0.001);
+            // L-shaped, so not cut into the square's root faces as a convex outline would be.
+            let (a, m, b, h) = (0.2345, 0.5123, 0.7321, 0.001);
             let mut vertices = vec![
                 Vec3::new(a, a, h),
                 Vec3::new(b, a, h),
-                Vec3::new(b, b, h),
+                Vec3::new(b, m, h),
+                Vec3::new(m, m, h),
+                Vec3::new(m, b, h),
                 Vec3::new(a, b, h),
             ];
             if facing {

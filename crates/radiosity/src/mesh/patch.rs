@@ -15,6 +15,7 @@
 
 use glam::Vec3;
 
+use super::imprint::{imprint, Piece};
 use super::triangulate::{is_convex, triangulate};
 use super::Face;
 use crate::{Rgb, Scene};
@@ -40,45 +41,64 @@ pub struct Patch {
     pub reflectance: Rgb,
     /// Emitted exitance E = π·L_e (W·m⁻²); zero on back sides.
     pub emission: Rgb,
+    /// Polygons whose outline was cut into the root faces ([`super::imprint`]).
+    pub imprinted: Vec<u32>,
 }
 
 /// How far (relative to its diameter) a polygon's corners may stray from its mean plane for it
 /// to stay one patch: well above f32 rounding, well below anything that changes light.
 pub const PLANAR_TOLERANCE: f32 = 1e-4;
 
-/// The patches of `scene` with the root faces of each patch's element quadtree.
+/// The patches of `scene` with the root faces of each patch's element quadtree, cut along
+/// the outlines of large polygons lying on them ([`super::imprint`]).
 pub(super) fn patches(scene: &Scene) -> Vec<(Patch, Vec<Face>)> {
-    let mut out = Vec::with_capacity(scene.polygons.len());
     let enclosed = enclosed_objects(scene);
-    for (i, polygon) in scene.polygons.iter().enumerate() {
+    let mut pieces: Vec<Piece> = scene
+        .polygons
+        .iter()
+        .enumerate()
+        .flat_map(|(polygon, p)| {
+            planar_pieces(&p.vertices)
+                .into_iter()
+                .map(move |(normal, roots)| Piece {
+                    polygon,
+                    normal,
+                    roots,
+                    imprinted: Vec::new(),
+                })
+        })
+        .collect();
+    imprint(scene, &mut pieces);
+    let mut out = Vec::with_capacity(pieces.len());
+    for piece in pieces {
+        let polygon = &scene.polygons[piece.polygon];
         let material = &scene.materials[polygon.material];
         let two_sided = material.two_sided && !enclosed[polygon.object];
-        for (normal, roots) in planar_pieces(&polygon.vertices) {
-            let area = roots.iter().map(Face::area).sum();
-            let front = Patch {
-                polygon: i as u32,
-                object: polygon.object as u32,
-                material: polygon.material as u32,
-                back: false,
-                two_sided,
-                normal,
-                area,
-                reflectance: material.reflectance,
-                emission: material.emission * std::f64::consts::PI,
+        let area = piece.roots.iter().map(Face::area).sum();
+        let front = Patch {
+            polygon: piece.polygon as u32,
+            object: polygon.object as u32,
+            material: polygon.material as u32,
+            back: false,
+            two_sided,
+            normal: piece.normal,
+            area,
+            reflectance: material.reflectance,
+            emission: material.emission * std::f64::consts::PI,
+            imprinted: piece.imprinted,
+        };
+        if two_sided {
+            let back = Patch {
+                back: true,
+                normal: -piece.normal,
+                emission: Rgb::ZERO,
+                ..front.clone()
             };
-            if two_sided {
-                let back = Patch {
-                    back: true,
-                    normal: -normal,
-                    emission: Rgb::ZERO,
-                    ..front.clone()
-                };
-                let reversed = roots.iter().map(reverse).collect();
-                out.push((front, roots));
-                out.push((back, reversed));
-            } else {
-                out.push((front, roots));
-            }
+            let reversed = piece.roots.iter().map(reverse).collect();
+            out.push((front, piece.roots));
+            out.push((back, reversed));
+        } else {
+            out.push((front, piece.roots));
         }
     }
     out
@@ -152,7 +172,7 @@ fn planar_pieces(vertices: &[Vec3]) -> Vec<(Vec3, Vec<Face>)> {
 
 /// Whether every corner lies within [`PLANAR_TOLERANCE`] of the polygon's diameter from the
 /// plane through the corners' mean with the polygon's (Newell) normal.
-fn is_planar(vertices: &[Vec3], normal: Vec3) -> bool {
+pub(super) fn is_planar(vertices: &[Vec3], normal: Vec3) -> bool {
     let mean = vertices.iter().sum::<Vec3>() / vertices.len() as f32;
     let diameter = vertices
         .iter()
