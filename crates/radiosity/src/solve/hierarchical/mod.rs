@@ -274,10 +274,12 @@ pub fn run(
                 break 'passes;
             }
             let (node_b, cluster_b) = brightness(&state);
+            let node_spread = spread(mesh, &node_b);
             let oracle = Oracle {
                 threshold,
                 min_area,
                 node_b: &node_b,
+                node_spread: &node_spread,
                 cluster_b: &cluster_b,
             };
             let view = View::new(mesh, &clusters, bvh);
@@ -383,6 +385,23 @@ pub fn run(
 fn brightness(state: &State) -> (Vec<f64>, Vec<f64>) {
     let max = |b: &Vec<Rgb>| b.iter().map(|b| b.max_element()).collect();
     (max(&state.node_b), max(&state.cluster_b))
+}
+
+/// For every mesh node, max − min of `b` over the leaves below it (0 for a leaf). Parents
+/// precede their children in the arena, so one backward pass suffices.
+fn spread(mesh: &Mesh, b: &[f64]) -> Vec<f64> {
+    let (mut lo, mut hi) = (b.to_vec(), b.to_vec());
+    for n in (0..mesh.nodes.len()).rev() {
+        if let Some(c) = mesh.nodes[n].children {
+            lo[n] = (c..c + 4)
+                .map(|k| lo[k as usize])
+                .fold(f64::INFINITY, f64::min);
+            hi[n] = (c..c + 4)
+                .map(|k| hi[k as usize])
+                .fold(f64::NEG_INFINITY, f64::max);
+        }
+    }
+    hi.iter().zip(&lo).map(|(h, l)| h - l).collect()
 }
 
 /// Elements whose radiosity differs from a sibling's by more than [`GRADIENT`] of the
