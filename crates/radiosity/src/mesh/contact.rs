@@ -19,7 +19,9 @@
 //! outline, projected, crosses the leaf: an emitter hung a millimetre in front of a wall and
 //! facing it lights the gap, and the wall's elements straddling its outline leaked that light
 //! into the room (measured on `scenes/suite/emitter-near-wall-facing`: the ceiling 123 % too
-//! bright against Mitsuba 3 without this; +2.6 % with [`COVER_LEVELS`]). The reach is
+//! bright against Mitsuba 3 without this; +2.6 % with [`COVER_LEVELS`]). A large convex cover
+//! is cut into the surface's root faces beforehand ([`super::imprint`]), so none of its elements
+//! straddles the outline, and such a cover is skipped here. The reach is
 //! relative to the hovering triangle, not to the leaf, so it holds at every level of the
 //! refinement (it was relative to the leaf, and stopped after one level).
 //!
