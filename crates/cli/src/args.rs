@@ -373,8 +373,9 @@ pub struct CommonArgs {
 /// `radiosity bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// What to measure: `rays` (BVH throughput) or `hierarchical` (the hierarchical solver
-    /// from 10⁴ to 10⁶ elements: the Cornell box at falling ε and a field of 200 spheres).
+    /// What to measure: `rays` (BVH throughput), `hierarchical` (the hierarchical solver
+    /// from 10⁴ to 10⁶ elements: the Cornell box at falling ε and a field of 200 spheres) or
+    /// `image` (our pictures against a path tracer's reference picture: error and time).
     #[arg(long, value_enum, default_value_t = Suite::Rays)]
     pub suite: Suite,
     /// `--suite hierarchical`: the finest sphere tessellation of the field (icosphere
@@ -407,6 +408,13 @@ pub struct BenchArgs {
     /// Also write the reports as JSON.
     #[arg(long, value_name = "PATH")]
     pub json: Option<PathBuf>,
+    /// `--suite image`: the reference picture, a linear-radiance PFM from the scene's camera
+    /// (default: benches/image/reference/cornell_256.pfm, Mitsuba 3's Cornell box).
+    #[arg(long, value_name = "PATH")]
+    pub reference: Option<PathBuf>,
+    /// `--suite image`: the scene the reference shows (file or built-in name).
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
     /// Also write each scene's triangles and rays to DIR/<scene>.bin (for tracing them with
     /// another tracer: `benches/embree_rays.py`).
     #[arg(long, value_name = "DIR")]
@@ -420,6 +428,8 @@ pub enum Suite {
     Rays,
     /// Time, links and memory of the hierarchical solver against the element count.
     Hierarchical,
+    /// Our pictures against a path tracer's converged picture: error and time.
+    Image,
 }
 
 /// `--mode`.

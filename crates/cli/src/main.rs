@@ -23,6 +23,7 @@ mod args;
 mod bars;
 mod bench;
 mod bench_hierarchical;
+mod bench_image;
 mod compare;
 mod curve;
 mod hemicube;
@@ -64,10 +65,11 @@ fn main() -> ExitCode {
         Command::Compare(args) => compare::run(&args),
         Command::Scenes => list_scenes(),
         Command::Info(args) => info::run(&args),
-        Command::Bench(args) if args.suite == args::Suite::Hierarchical => {
-            bench_hierarchical::run(&args)
-        }
-        Command::Bench(args) => bench::run(&args),
+        Command::Bench(args) => match args.suite {
+            args::Suite::Rays => bench::run(&args),
+            args::Suite::Hierarchical => bench_hierarchical::run(&args),
+            args::Suite::Image => bench_image::run(&args),
+        },
         Command::Hemicube(args) => hemicube::run(&args),
         Command::Curve(args) => curve::run(&args),
         Command::Validate(args) => validate::run(&args),

@@ -14,9 +14,11 @@
 //!    the radiosity solution), with optional final gather.
 //! 6. [`local`]: the "OpenGL" local illumination model (direct light + constant ambient).
 //! 7. [`compare`]: labelled side-by-side images of several modes.
+//! 8. [`image_error`]: how far a picture is from a reference picture (block luminance error).
 pub mod camera;
 pub mod compare;
 pub mod image;
+pub mod image_error;
 pub mod local;
 pub mod raster;
 pub mod raytrace;

@@ -1,0 +1,140 @@
+//! `radiosity bench --suite image`: our pictures against a path tracer's converged picture.
+//!
+//! The reference is a linear-radiance PFM that Mitsuba 3 rendered from the scene's own camera
+//! (`benches/image/reference.py`; the committed one is the Cornell box at 256², see
+//! `benches/image/reference/README.md`). Each configuration below is this program's own
+//! `render` command, run in a process of its own at the reference's size and timed whole
+//! (parse, mesh, solve, render, write), and its picture compared with the reference by
+//! [`radiosity::render::image_error::block_error`]: the RMS of the relative luminance error
+//! over 4 × 4-pixel blocks, the measure the image issue states its goals in.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+use anyhow::{bail, Context};
+use radiosity::io::atomic::write_atomic;
+use radiosity::io::image_file::read_pfm;
+use radiosity::progress::Progress;
+use radiosity::render::image_error::block_error;
+use serde::Serialize;
+
+use crate::args::BenchArgs;
+use crate::bars::Bars;
+
+/// The configurations measured: a name and the `render` flags that make it.
+const CONFIGURATIONS: [(&str, &[&str]); 7] = [
+    ("default (interpolated)", &[]),
+    ("--mode final", &["--mode", "final"]),
+    ("--elements 16000", &["--elements", "16000"]),
+    (
+        "--mode final --elements 16000",
+        &["--mode", "final", "--elements", "16000"],
+    ),
+    ("--solver hierarchical", &["--solver", "hierarchical"]),
+    (
+        "--solver hierarchical --mode final",
+        &["--solver", "hierarchical", "--mode", "final"],
+    ),
+    (
+        "--mode raytrace --gather 16",
+        &["--mode", "raytrace", "--gather", "16"],
+    ),
+];
+
+/// One configuration's figures.
+#[derive(Debug, Serialize)]
+struct Figures {
+    configuration: String,
+    /// RMS relative luminance error over blocks.
+    error: f64,
+    /// Mean relative luminance error over blocks (positive: too bright).
+    bias: f64,
+    /// The whole command, seconds.
+    seconds: f64,
+}
+
+/// Renders every configuration, prints error and time, and writes the JSON report if asked.
+pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    let reference_path = args.reference.clone().unwrap_or_else(default_reference);
+    let reference = read_pfm(&reference_path)?;
+    let exe = std::env::current_exe().context("cannot find this program")?;
+    let dir = tempfile_dir()?;
+    let mut out = std::io::stdout().lock();
+    writeln!(
+        out,
+        "{} against {} ({}×{}, {}×{}-pixel blocks)",
+        args.scene,
+        reference_path.display(),
+        reference.width,
+        reference.height,
+        BLOCK,
+        BLOCK
+    )?;
+    writeln!(
+        out,
+        "{:<36} {:>9} {:>9} {:>9}",
+        "configuration", "error", "bias", "time s"
+    )?;
+    let bars = Bars::new(std::io::stderr().is_terminal());
+    bars.start("bench image", CONFIGURATIONS.len() as u64);
+    let mut all = Vec::new();
+    for (k, (name, flags)) in CONFIGURATIONS.iter().enumerate() {
+        let image = dir.join(format!("{k}.pfm"));
+        let start = Instant::now();
+        let output = Command::new(&exe)
+            .args(["render", &args.scene, "-q", "--width"])
+            .arg(reference.width.to_string())
+            .arg("--height")
+            .arg(reference.height.to_string())
+            .args(*flags)
+            .arg("-o")
+            .arg(&image)
+            .output()
+            .context("cannot run a render")?;
+        let seconds = start.elapsed().as_secs_f64();
+        if !output.status.success() {
+            bail!("{name}: {}", String::from_utf8_lossy(&output.stderr).trim());
+        }
+        let ours = read_pfm(&image)?;
+        let e = block_error(&ours, &reference, BLOCK)
+            .with_context(|| format!("{name}: the picture does not match the reference's size"))?;
+        writeln!(
+            out,
+            "{name:<36} {:>8.2}% {:>+8.2}% {seconds:>9.1}",
+            100.0 * e.rms,
+            100.0 * e.bias
+        )?;
+        all.push(Figures {
+            configuration: (*name).to_string(),
+            error: e.rms,
+            bias: e.bias,
+            seconds,
+        });
+        bars.advance(1);
+    }
+    bars.finish();
+    let _ = std::fs::remove_dir_all(&dir);
+    if let Some(path) = &args.json {
+        let json = serde_json::to_vec_pretty(&all)?;
+        write_atomic(path, |w| w.write_all(&json))
+            .with_context(|| format!("{}: cannot write", path.display()))?;
+    }
+    Ok(())
+}
+
+/// Block size of the error measure, pixels.
+const BLOCK: u32 = 4;
+
+/// The committed reference, relative to the working directory (the repository's root).
+fn default_reference() -> PathBuf {
+    Path::new("benches/image/reference/cornell_256.pfm").to_path_buf()
+}
+
+/// A fresh directory for the renders.
+fn tempfile_dir() -> anyhow::Result<PathBuf> {
+    let dir = std::env::temp_dir().join(format!("radiosity-bench-image-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).with_context(|| format!("{}: cannot create", dir.display()))?;
+    Ok(dir)
+}
