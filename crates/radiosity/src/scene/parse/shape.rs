@@ -1,5 +1,5 @@
 //! Objects and their shapes: the keys every `[[objects]]` entry may have, then the keys the
-//! `shape` selects (see [`SHAPES`]), and the `csg` operands and `transform` tables they hold.
+//! `shape` selects (see [`SHAPES`]), and the `csg` operands they hold.
 
 use std::path::PathBuf;
 
@@ -7,9 +7,9 @@ use glam::Vec3;
 
 use super::sdf::parse_sdf;
 use super::table::Table;
-use super::value::Kind;
+use super::transform::take_transform;
 use super::{DEFAULT_IMPLICIT_RESOLUTION, DEFAULT_SPHERE_SUBDIVISIONS, DEFAULT_SUBDIVISION_LEVELS};
-use crate::scene::description::{ObjectDesc, OperandDesc, ShapeDesc, TransformDesc};
+use crate::scene::description::{ObjectDesc, OperandDesc, ShapeDesc};
 use crate::scene::SceneError;
 
 /// The keys every object may have, whatever its shape.
@@ -221,26 +221,4 @@ fn parse_operand(mut t: Table<'_>) -> Result<OperandDesc, SceneError> {
 fn allowed_keys(name: &str, common: &[&'static str]) -> Option<Vec<&'static str>> {
     let (_, keys) = SHAPES.iter().find(|(s, _)| *s == name)?;
     Some(common.iter().chain(keys.iter()).copied().collect())
-}
-
-/// The optional `transform` table of an object, operand or signed distance expression.
-pub(super) fn take_transform(t: &mut Table<'_>) -> Result<Option<TransformDesc>, SceneError> {
-    let path = t.child_path("transform");
-    t.take("transform")
-        .map(|(_, v)| parse_transform(Table::new(t.src, path, v)?))
-        .transpose()
-}
-
-/// `transform = { scale, rotate, translate }`.
-fn parse_transform(mut t: Table<'_>) -> Result<TransformDesc, SceneError> {
-    let src = t.src;
-    t.check_keys(&["scale", "rotate", "translate"])?;
-    Ok(TransformDesc {
-        scale: t.optional_with("scale", Vec3::ONE, |k, v| match &v.kind {
-            Kind::Array(_) => src.vec3(k, v),
-            _ => Ok(src.f32(k, v)?.map(Vec3::splat)),
-        })?,
-        rotate: t.optional_with("rotate", Vec3::ZERO, |k, v| src.vec3(k, v))?,
-        translate: t.optional_with("translate", Vec3::ZERO, |k, v| src.vec3(k, v))?,
-    })
 }
