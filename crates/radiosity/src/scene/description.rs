@@ -227,7 +227,7 @@ pub enum ShapeDesc {
         /// `faces` of the base mesh: 0-based vertex indices, counter-clockwise.
         faces: Option<Field<Vec<Vec<u32>>>>,
         /// `scheme`: `catmull_clark` (default) or `loop`.
-        scheme: Field<String>,
+        scheme: Field<model::surface::subdivision::Scheme>,
         /// `levels` of refinement (default 3).
         levels: Field<u32>,
     },
@@ -246,7 +246,7 @@ pub enum ShapeDesc {
     /// `shape = "csg"`: a Boolean tree of closed operands.
     Csg {
         /// `op`: `union`, `intersection` or `difference` (the first minus all others).
-        op: Field<String>,
+        op: Field<model::csg::CsgOp>,
         /// `operands`, each a shape table with an optional `transform`.
         operands: Field<Vec<OperandDesc>>,
     },

@@ -368,19 +368,9 @@ fn check_object(desc: &SceneDesc, o: &ObjectDesc) -> Result<(), SceneError> {
             base,
             vertices,
             faces,
-            scheme,
             levels,
+            ..
         } => {
-            if !["catmull_clark", "loop"].contains(&scheme.value.as_str()) {
-                return Err(fail(
-                    desc,
-                    scheme,
-                    format!(
-                        "unknown scheme `{}` (expected catmull_clark or loop)",
-                        scheme.value
-                    ),
-                ));
-            }
             if levels.value > MAX_SUBDIVISION_LEVELS {
                 return Err(fail(
                     desc,
@@ -465,14 +455,7 @@ fn check_solid(desc: &SceneDesc, shape: &ShapeDesc) -> Result<(), SceneError> {
                 ));
             }
         }
-        ShapeDesc::Csg { op, operands } => {
-            if !["union", "intersection", "difference"].contains(&op.value.as_str()) {
-                return Err(fail(
-                    desc,
-                    op,
-                    "expected `union`, `intersection` or `difference`".into(),
-                ));
-            }
+        ShapeDesc::Csg { operands, .. } => {
             if operands.value.len() < 2 {
                 return Err(fail(desc, operands, "expected at least 2 operands".into()));
             }

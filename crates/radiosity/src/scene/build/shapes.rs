@@ -246,12 +246,7 @@ pub(super) fn modeled_mesh(
                 },
                 _ => return Err(at_object("base", "missing base mesh".into())),
             };
-            let scheme = if scheme.value == "loop" {
-                surface::subdivision::Scheme::Loop
-            } else {
-                surface::subdivision::Scheme::CatmullClark
-            };
-            surface::subdivision::subdivide(&mesh, scheme, levels.value)
+            surface::subdivision::subdivide(&mesh, scheme.value, levels.value)
         }
         _ => PolyMesh::default(),
     })
@@ -283,11 +278,6 @@ pub(super) fn solid_mesh(
                 .unwrap_or_default()
         }
         ShapeDesc::Csg { op, operands } => {
-            let op = match op.value.as_str() {
-                "union" => model::csg::CsgOp::Union,
-                "intersection" => model::csg::CsgOp::Intersection,
-                _ => model::csg::CsgOp::Difference,
-            };
             let mut result: Option<PolyMesh> = None;
             for operand in &operands.value {
                 let mut mesh = solid_mesh(desc, o, &operand.shape)?;
@@ -300,7 +290,7 @@ pub(super) fn solid_mesh(
                 }
                 result = Some(match result {
                     None => mesh,
-                    Some(acc) => model::csg::apply(op, &acc, &mesh),
+                    Some(acc) => model::csg::apply(op.value, &acc, &mesh),
                 });
             }
             result.unwrap_or_default()

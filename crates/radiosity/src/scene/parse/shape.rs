@@ -4,6 +4,8 @@
 use std::path::PathBuf;
 
 use glam::Vec3;
+use model::csg::CsgOp;
+use model::surface::subdivision::Scheme;
 
 use super::sdf::parse_sdf;
 use super::table::Table;
@@ -63,15 +65,14 @@ pub(super) fn parse_object(mut t: Table<'_>, index: usize) -> Result<ObjectDesc,
     let shape = t.required_with("shape", |k, v| src.string(k, v))?;
     let Some(allowed) = allowed_keys(&shape.value, OBJECT_KEYS) else {
         let known: Vec<&str> = SHAPES.iter().map(|(s, _)| *s).collect();
-        return Err(SceneError::at(
-            src.loc_of(shape.pos),
+        return Err(src.error_at(
+            &shape,
             format!(
                 "unknown shape `{}` (expected one of: {})",
                 shape.value,
                 known.join(", ")
             ),
-        )
-        .with_key(shape.key));
+        ));
     };
     t.check_keys(&allowed)?;
     let name = t.optional("name", |k, v| src.string(k, v))?;
@@ -146,8 +147,19 @@ fn parse_shape(kind: &str, t: &mut Table<'_>) -> Result<ShapeDesc, SceneError> {
             faces: t.optional("faces", |k, v| {
                 src.list(k, v, |k, v| src.list(k, v, |k, v| src.u32(k, v)))
             })?,
-            scheme: t.optional_with("scheme", "catmull_clark".to_string(), |k, v| {
-                src.string(k, v)
+            scheme: t.optional_with("scheme", Scheme::CatmullClark, |k, v| {
+                let name = src.string(k, v)?;
+                let scheme = match name.value.as_str() {
+                    "catmull_clark" => Scheme::CatmullClark,
+                    "loop" => Scheme::Loop,
+                    other => {
+                        return Err(src.error_at(
+                            &name,
+                            format!("unknown scheme `{other}` (expected catmull_clark or loop)"),
+                        ))
+                    }
+                };
+                Ok(name.map(|_| scheme))
             })?,
             levels: t.optional_with("levels", DEFAULT_SUBDIVISION_LEVELS, |k, v| src.u32(k, v))?,
         },
@@ -165,7 +177,20 @@ fn parse_shape(kind: &str, t: &mut Table<'_>) -> Result<ShapeDesc, SceneError> {
             })?,
         },
         "csg" => ShapeDesc::Csg {
-            op: t.required_with("op", |k, v| src.string(k, v))?,
+            op: t.required_with("op", |k, v| {
+                let name = src.string(k, v)?;
+                let op = match name.value.as_str() {
+                    "union" => CsgOp::Union,
+                    "intersection" => CsgOp::Intersection,
+                    "difference" => CsgOp::Difference,
+                    _ => {
+                        return Err(
+                            src.error_at(&name, "expected `union`, `intersection` or `difference`")
+                        )
+                    }
+                };
+                Ok(name.map(|_| op))
+            })?,
             operands: t.required_with("operands", |k, v| {
                 let at = src.field(k, &v, ());
                 let items = src
@@ -201,11 +226,7 @@ fn parse_operand(mut t: Table<'_>) -> Result<OperandDesc, SceneError> {
     let src = t.src;
     let shape = t.required_with("shape", |k, v| src.string(k, v))?;
     let Some(allowed) = allowed_keys(&shape.value, &["shape", "transform"]) else {
-        return Err(SceneError::at(
-            src.loc_of(shape.pos),
-            format!("unknown shape `{}`", shape.value),
-        )
-        .with_key(shape.key));
+        return Err(src.error_at(&shape, format!("unknown shape `{}`", shape.value)));
     };
     t.check_keys(&allowed)?;
     let transform = take_transform(&mut t)?;
