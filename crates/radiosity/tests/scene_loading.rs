@@ -357,7 +357,8 @@ fn every_bad_input_is_reported_with_line_column_and_key() {
         "objects[0].transform.scale",
         "must not be zero",
     );
-    // Names of CSG operations and subdivision schemes are read at parse time, at any depth.
+    // Names of CSG operations, subdivision schemes and base meshes are read at parse time, at
+    // any depth.
     let solid = |shape: &str| format!("{}[[objects]]\nmaterial = \"white\"\n{shape}", tri(""));
     let ball = "{ shape = \"sphere\", center = [0, 0, 0], radius = 1 }";
     let t = solid(&format!(
@@ -376,6 +377,13 @@ fn every_bad_input_is_reported_with_line_column_and_key() {
         "\"sqrt3\"",
         "objects[1].scheme",
         "unknown scheme `sqrt3` (expected catmull_clark or loop)",
+    );
+    let t = solid("shape = \"subdivision\"\nbase = \"cone\"\n");
+    assert_error(
+        &t,
+        "\"cone\"",
+        "objects[1].base",
+        "unknown base `cone` (expected cube or tetrahedron)",
     );
 }
 

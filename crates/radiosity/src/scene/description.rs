@@ -221,7 +221,7 @@ pub enum ShapeDesc {
     /// `shape = "subdivision"`: a subdivision surface.
     Subdivision {
         /// `base`: a built-in base mesh (`cube`, `tetrahedron`), or else `vertices` + `faces`.
-        base: Option<Field<String>>,
+        base: Option<Field<BaseMesh>>,
         /// `vertices` of the base mesh.
         vertices: Option<Field<Vec<Vec3>>>,
         /// `faces` of the base mesh: 0-based vertex indices, counter-clockwise.
@@ -255,6 +255,15 @@ pub enum ShapeDesc {
         /// `of`: the name of the object whose shape is reused.
         of: Field<String>,
     },
+}
+
+/// A built-in base mesh of a subdivision surface (`base = "…"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BaseMesh {
+    /// `cube`: the unit cube centred at the origin.
+    Cube,
+    /// `tetrahedron`: the regular tetrahedron on four corners of that cube.
+    Tetrahedron,
 }
 
 /// One operand of a `csg` shape.

@@ -379,15 +379,7 @@ fn check_object(desc: &SceneDesc, o: &ObjectDesc) -> Result<(), SceneError> {
                 ));
             }
             match (base, vertices, faces) {
-                (Some(b), None, None) => {
-                    if !["cube", "tetrahedron"].contains(&b.value.as_str()) {
-                        return Err(fail(
-                            desc,
-                            b,
-                            format!("unknown base `{}` (expected cube or tetrahedron)", b.value),
-                        ));
-                    }
-                }
+                (Some(_), None, None) => {}
                 (None, Some(v), Some(f)) => {
                     let n = v.value.len();
                     if let Some(bad) = f

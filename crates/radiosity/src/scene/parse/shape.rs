@@ -11,7 +11,7 @@ use super::sdf::parse_sdf;
 use super::table::Table;
 use super::transform::take_transform;
 use super::{DEFAULT_IMPLICIT_RESOLUTION, DEFAULT_SPHERE_SUBDIVISIONS, DEFAULT_SUBDIVISION_LEVELS};
-use crate::scene::description::{ObjectDesc, OperandDesc, ShapeDesc};
+use crate::scene::description::{BaseMesh, ObjectDesc, OperandDesc, ShapeDesc};
 use crate::scene::SceneError;
 
 /// The keys every object may have, whatever its shape.
@@ -142,7 +142,20 @@ fn parse_shape(kind: &str, t: &mut Table<'_>) -> Result<ShapeDesc, SceneError> {
             tolerance: t.optional("tolerance", |k, v| src.f64(k, v))?,
         },
         "subdivision" => ShapeDesc::Subdivision {
-            base: t.optional("base", |k, v| src.string(k, v))?,
+            base: t.optional("base", |k, v| {
+                let name = src.string(k, v)?;
+                let base = match name.value.as_str() {
+                    "cube" => BaseMesh::Cube,
+                    "tetrahedron" => BaseMesh::Tetrahedron,
+                    other => {
+                        return Err(src.error_at(
+                            &name,
+                            format!("unknown base `{other}` (expected cube or tetrahedron)"),
+                        ))
+                    }
+                };
+                Ok(name.map(|_| base))
+            })?,
             vertices: t.optional("vertices", |k, v| src.vec3_list(k, v))?,
             faces: t.optional("faces", |k, v| {
                 src.list(k, v, |k, v| src.list(k, v, |k, v| src.u32(k, v)))
