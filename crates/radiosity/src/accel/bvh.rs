@@ -1,5 +1,5 @@
 //! The bounding-volume hierarchy: construction glue, box queries and invariants (the binned
-//! SAH build is in [`super::build`], the node layout in [`super::node`], the ray queries in
+//! SAH build is in `build`, the node layout in `node`, the ray queries in
 //! [`super::traverse`]).
 //!
 //! Measured against a binary tree with both child boxes in one 64-byte node (Aila & Laine
