@@ -7,7 +7,7 @@ use anyhow::Result;
 use radiosity::mesh::{display, Mesh, Subdivision};
 use radiosity::pipeline::Solved;
 use radiosity::render::local::{self, LocalSettings};
-use radiosity::render::raytrace::{self, RaytraceSettings, Watch};
+use radiosity::render::raytrace::{RaytraceSettings, Watch};
 use radiosity::render::{self, Image, RasterSettings};
 use radiosity::scene::Camera;
 use radiosity::Rgb;
@@ -29,29 +29,19 @@ pub fn render_mode(
     shadows: bool,
     quiet: bool,
 ) -> Result<Image> {
-    let (scene, mesh, lit) = (&solved.scene, &solved.mesh, &solved.lit);
-    watched(quiet, |watch| match mode {
-        Mode::Radiosity => render::render_watched(lit, camera, raster, watch),
-        Mode::Local => {
-            let settings = LocalSettings {
-                shadows,
-                ..LocalSettings::default()
-            };
-            local::render(scene, mesh, lit, camera, raster, &settings, watch)
-        }
-        Mode::Raytrace => {
-            let settings = RaytraceSettings {
-                gather,
-                ..RaytraceSettings::default()
-            };
-            raytrace::render(scene, mesh, lit, camera, raster, &settings, watch)
-        }
-        Mode::Final => {
-            let radiosity = &solved.solution.radiosity;
-            let settings = RaytraceSettings::default();
-            raytrace::evaluate::render(scene, mesh, radiosity, camera, raster, &settings, watch)
-        }
-    })
+    let mode = match mode {
+        Mode::Radiosity => render::Mode::Radiosity,
+        Mode::Local => render::Mode::Local(LocalSettings {
+            shadows,
+            ..LocalSettings::default()
+        }),
+        Mode::Raytrace => render::Mode::Raytrace(RaytraceSettings {
+            gather,
+            ..RaytraceSettings::default()
+        }),
+        Mode::Final => render::Mode::Final(RaytraceSettings::default()),
+    };
+    watched(quiet, |watch| solved.render(&mode, camera, raster, watch))
 }
 
 /// Local illumination of `scene` without a radiosity solve: its patches unsubdivided (the local

@@ -52,7 +52,7 @@ pub fn pipeline_settings(common: &CommonArgs) -> pipeline::Settings {
         settings.solve.epsilon = epsilon;
     }
     if let Some(area) = common.min_element_area {
-        settings.solve.min_element_area = area;
+        settings.solve.min_element_area = Some(area);
     }
     if let Some(tolerance) = common.tolerance {
         settings.solve.tolerance = tolerance;

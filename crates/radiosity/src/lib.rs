@@ -29,6 +29,7 @@ pub mod pipeline;
 pub mod plot;
 pub mod progress;
 pub mod render;
+pub mod sampling;
 pub mod scene;
 pub mod solve;
 pub mod stats;

@@ -10,6 +10,8 @@ use crate::accel::Bvh;
 use crate::formfactor::{self, Geometry};
 use crate::mesh::{display, LitMesh, Mesh, Subdivision};
 use crate::progress::Progress;
+use crate::render::{self, local, raytrace, Image, Mode, RasterSettings, Watch};
+use crate::scene::Camera;
 use crate::solve::checkpoint::{hash_text, Control};
 use crate::solve::{self, hierarchical, plan, Solution, SolveError};
 use crate::stats::{Aggregate, Energy, SolverStats, Stats, Timings};
@@ -259,6 +261,32 @@ fn absorbed_power(mesh: &Mesh, solution: &Solution) -> Rgb {
 }
 
 impl Solved {
+    /// The picture of this scene seen by `camera` in `mode`, at the size and samples of
+    /// `raster`; `None` when `watch` was told to stop first.
+    #[must_use]
+    pub fn render(
+        &self,
+        mode: &Mode,
+        camera: &Camera,
+        raster: &RasterSettings,
+        watch: &Watch,
+    ) -> Option<Image> {
+        let (scene, mesh, lit) = (&self.scene, &self.mesh, &self.lit);
+        match mode {
+            Mode::Radiosity => render::render_watched(lit, camera, raster, watch),
+            Mode::Local(settings) => {
+                local::render(scene, mesh, lit, camera, raster, settings, watch)
+            }
+            Mode::Raytrace(settings) => {
+                raytrace::render(scene, mesh, lit, camera, raster, settings, watch)
+            }
+            Mode::Final(settings) => {
+                let radiosity = &self.solution.radiosity;
+                raytrace::evaluate::render(scene, mesh, radiosity, camera, raster, settings, watch)
+            }
+        }
+    }
+
     /// The statistics of DESIGN.md §5. `timings` supplies the stages measured outside the
     /// pipeline (`load`, `render`, `total`); the others come from the solve.
     #[must_use]

@@ -210,6 +210,31 @@ fn dark_and_empty_scenes_give_zero_without_links() {
 }
 
 #[test]
+fn settings_that_are_not_positive_are_refused_by_name() {
+    // Neither setting has a zero that means "default": ε's default is a number, the minimum
+    // area's is `None` (a millionth of the total area).
+    let cube = || testing::closed_cube(0.5, [0.0, 0.0, 1.0, 0.0, 0.0, 0.0]);
+    let mut settings = hierarchical(0.0, 1e-6);
+    let err = pipeline::solve(cube(), &settings, &Silent).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("epsilon must be positive and finite, not 0"),
+        "{err}"
+    );
+    settings.solve.epsilon = solve::DEFAULT_EPSILON;
+    for area in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        settings.solve.min_element_area = Some(area);
+        let err = pipeline::solve(cube(), &settings, &Silent).unwrap_err();
+        assert!(
+            err.to_string().contains(&format!(
+                "min_element_area must be positive and finite, not {area}"
+            )),
+            "{err}"
+        );
+    }
+}
+
+#[test]
 fn shadow_boundaries_get_denser_elements_than_open_floor() {
     // Floor elements whose centre sees the light partly (penumbra) against those that see it
     // wholly: refinement must put more elements per unit area into the penumbra.

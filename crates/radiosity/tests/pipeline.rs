@@ -1,9 +1,13 @@
 //! The whole pipeline on the built-in scenes: energy balance, stats, and a golden image.
 
+use std::sync::atomic::AtomicBool;
+
 use radiosity::mesh::Subdivision;
 use radiosity::pipeline::{self, Settings};
 use radiosity::progress::Silent;
-use radiosity::render::{render, RasterSettings};
+use radiosity::render::local::LocalSettings;
+use radiosity::render::raytrace::RaytraceSettings;
+use radiosity::render::{render, Mode, RasterSettings, Watch};
 use radiosity::scene::builtin;
 use radiosity::stats::Timings;
 use radiosity::{Rgb, Scene};
@@ -63,6 +67,51 @@ fn cornell_box_is_plausible() {
     assert!(light.cmpge(exitance).all() && light.cmplt(exitance * 1.1).all());
     assert_eq!(stats.objects.len(), 8);
     assert_eq!(stats.materials.len(), 4);
+}
+
+/// Every render mode pictures a solved scene through `Solved::render`: the radiosity mode is
+/// the rasterised lit mesh, bit for bit; every mode gives finite, non-negative radiance at the
+/// asked size, and nothing once the stop flag is set.
+#[test]
+fn every_render_mode_pictures_the_solved_scene() {
+    let solved = pipeline::solve(scene("cornell"), &settings(200), &Silent).unwrap();
+    let camera = &solved.scene.cameras[0];
+    let raster = RasterSettings {
+        width: 24,
+        height: 16,
+        samples_per_pixel: 1,
+    };
+    let modes = [
+        Mode::Radiosity,
+        Mode::Local(LocalSettings::default()),
+        Mode::Raytrace(RaytraceSettings::default()),
+        Mode::Final(RaytraceSettings::default()),
+    ];
+    let stop = AtomicBool::new(true);
+    let stopped = Watch {
+        progress: &Silent,
+        stop: Some(&stop),
+    };
+    for mode in &modes {
+        let image = solved
+            .render(mode, camera, &raster, &Watch::SILENT)
+            .unwrap();
+        assert_eq!((image.width, image.height), (24, 16), "{mode:?}");
+        assert!(
+            image
+                .pixels
+                .iter()
+                .all(|p| p.is_finite() && p.min_element() >= 0.0),
+            "{mode:?}"
+        );
+        if *mode == Mode::Radiosity {
+            assert_eq!(image, render(&solved.lit, camera, &raster));
+        }
+        assert!(
+            solved.render(mode, camera, &raster, &stopped).is_none(),
+            "{mode:?}"
+        );
+    }
 }
 
 /// A 64 × 64 picture of the Cornell box at 400 elements against the stored golden PFM. The

@@ -357,6 +357,34 @@ fn every_bad_input_is_reported_with_line_column_and_key() {
         "objects[0].transform.scale",
         "must not be zero",
     );
+    // Names of CSG operations, subdivision schemes and base meshes are read at parse time, at
+    // any depth.
+    let solid = |shape: &str| format!("{}[[objects]]\nmaterial = \"white\"\n{shape}", tri(""));
+    let ball = "{ shape = \"sphere\", center = [0, 0, 0], radius = 1 }";
+    let t = solid(&format!(
+        "shape = \"csg\"\nop = \"union\"\noperands = [{ball}, {{ shape = \"csg\", op = \"xor\", \
+         operands = [{ball}, {ball}] }}]\n"
+    ));
+    assert_error(
+        &t,
+        "\"xor\"",
+        "objects[1].operands[1].op",
+        "expected `union`, `intersection` or `difference`",
+    );
+    let t = solid("shape = \"subdivision\"\nbase = \"cube\"\nscheme = \"sqrt3\"\n");
+    assert_error(
+        &t,
+        "\"sqrt3\"",
+        "objects[1].scheme",
+        "unknown scheme `sqrt3` (expected catmull_clark or loop)",
+    );
+    let t = solid("shape = \"subdivision\"\nbase = \"cone\"\n");
+    assert_error(
+        &t,
+        "\"cone\"",
+        "objects[1].base",
+        "unknown base `cone` (expected cube or tetrahedron)",
+    );
 }
 
 #[test]

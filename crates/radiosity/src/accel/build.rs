@@ -22,7 +22,7 @@
 
 use glam::Vec3;
 
-use super::bvh::{is_leaf, leaf_ref, Aabb, Node, EMPTY_CHILD, MAX_LEAF, WIDTH};
+use super::node::{is_leaf, leaf_ref, Aabb, Node, EMPTY_CHILD, MAX_LEAF, WIDTH};
 use super::packet::LANES;
 
 /// A binary node: the boxes and references of its two children.

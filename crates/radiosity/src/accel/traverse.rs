@@ -30,7 +30,8 @@
 
 use glam::Vec3;
 
-use super::bvh::{is_leaf, leaf_range, Bvh, Node, DEEP_STACK, SHALLOW_STACK, WIDTH};
+use super::bvh::{Bvh, DEEP_STACK, SHALLOW_STACK};
+use super::node::{is_leaf, leaf_range, Node, WIDTH};
 use super::packet::LANES;
 use super::ray::{Hit, Ray};
 

@@ -14,12 +14,14 @@
 //!    the radiosity solution), with optional final gather.
 //! 6. [`local`]: the "OpenGL" local illumination model (direct light + constant ambient).
 //! 7. [`compare`]: labelled side-by-side images of several modes.
-//! 8. [`image_error`]: how far a picture is from a reference picture (block luminance error).
+//! 8. [`mode`]: the [`Mode`] enum over these renderers, with the settings of each.
+//! 9. [`image_error`]: how far a picture is from a reference picture (block luminance error).
 pub mod camera;
 pub mod compare;
 pub mod image;
 pub mod image_error;
 pub mod local;
+pub mod mode;
 pub mod raster;
 pub mod raytrace;
 pub mod tonemap;
@@ -27,5 +29,6 @@ pub mod watch;
 
 pub use camera::Projection;
 pub use image::Image;
+pub use mode::Mode;
 pub use raster::{render, render_watched, RasterSettings};
 pub use watch::Watch;

@@ -221,13 +221,13 @@ pub enum ShapeDesc {
     /// `shape = "subdivision"`: a subdivision surface.
     Subdivision {
         /// `base`: a built-in base mesh (`cube`, `tetrahedron`), or else `vertices` + `faces`.
-        base: Option<Field<String>>,
+        base: Option<Field<BaseMesh>>,
         /// `vertices` of the base mesh.
         vertices: Option<Field<Vec<Vec3>>>,
         /// `faces` of the base mesh: 0-based vertex indices, counter-clockwise.
         faces: Option<Field<Vec<Vec<u32>>>>,
         /// `scheme`: `catmull_clark` (default) or `loop`.
-        scheme: Field<String>,
+        scheme: Field<model::surface::subdivision::Scheme>,
         /// `levels` of refinement (default 3).
         levels: Field<u32>,
     },
@@ -246,7 +246,7 @@ pub enum ShapeDesc {
     /// `shape = "csg"`: a Boolean tree of closed operands.
     Csg {
         /// `op`: `union`, `intersection` or `difference` (the first minus all others).
-        op: Field<String>,
+        op: Field<model::csg::CsgOp>,
         /// `operands`, each a shape table with an optional `transform`.
         operands: Field<Vec<OperandDesc>>,
     },
@@ -255,6 +255,15 @@ pub enum ShapeDesc {
         /// `of`: the name of the object whose shape is reused.
         of: Field<String>,
     },
+}
+
+/// A built-in base mesh of a subdivision surface (`base = "…"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BaseMesh {
+    /// `cube`: the unit cube centred at the origin.
+    Cube,
+    /// `tetrahedron`: the regular tetrahedron on four corners of that cube.
+    Tetrahedron,
 }
 
 /// One operand of a `csg` shape.

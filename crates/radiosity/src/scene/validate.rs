@@ -368,19 +368,9 @@ fn check_object(desc: &SceneDesc, o: &ObjectDesc) -> Result<(), SceneError> {
             base,
             vertices,
             faces,
-            scheme,
             levels,
+            ..
         } => {
-            if !["catmull_clark", "loop"].contains(&scheme.value.as_str()) {
-                return Err(fail(
-                    desc,
-                    scheme,
-                    format!(
-                        "unknown scheme `{}` (expected catmull_clark or loop)",
-                        scheme.value
-                    ),
-                ));
-            }
             if levels.value > MAX_SUBDIVISION_LEVELS {
                 return Err(fail(
                     desc,
@@ -389,15 +379,7 @@ fn check_object(desc: &SceneDesc, o: &ObjectDesc) -> Result<(), SceneError> {
                 ));
             }
             match (base, vertices, faces) {
-                (Some(b), None, None) => {
-                    if !["cube", "tetrahedron"].contains(&b.value.as_str()) {
-                        return Err(fail(
-                            desc,
-                            b,
-                            format!("unknown base `{}` (expected cube or tetrahedron)", b.value),
-                        ));
-                    }
-                }
+                (Some(_), None, None) => {}
                 (None, Some(v), Some(f)) => {
                     let n = v.value.len();
                     if let Some(bad) = f
@@ -465,14 +447,7 @@ fn check_solid(desc: &SceneDesc, shape: &ShapeDesc) -> Result<(), SceneError> {
                 ));
             }
         }
-        ShapeDesc::Csg { op, operands } => {
-            if !["union", "intersection", "difference"].contains(&op.value.as_str()) {
-                return Err(fail(
-                    desc,
-                    op,
-                    "expected `union`, `intersection` or `difference`".into(),
-                ));
-            }
+        ShapeDesc::Csg { operands, .. } => {
             if operands.value.len() < 2 {
                 return Err(fail(desc, operands, "expected at least 2 operands".into()));
             }

@@ -102,11 +102,11 @@ pub struct Settings {
     /// the matrix is elements × sources.
     pub max_sources: usize,
     /// Hierarchical solver: a link is refined while it moves more than this fraction of the
-    /// emitted power (0: [`DEFAULT_EPSILON`]).
+    /// emitted power; positive ([`DEFAULT_EPSILON`] by default).
     pub epsilon: f64,
-    /// Hierarchical solver: the smallest element area refinement may create, in scene units²
-    /// (0: a millionth of the total area).
-    pub min_element_area: f64,
+    /// Hierarchical solver: the smallest element area refinement may create, in scene units²,
+    /// positive; `None` for a millionth of the total area ([`hierarchical::MIN_AREA_FRACTION`]).
+    pub min_element_area: Option<f64>,
 }
 
 /// The hierarchical solver's default ε (see [`Settings::epsilon`]), measured on the built-in
@@ -129,7 +129,7 @@ impl Default for Settings {
             max_matrix_bytes: 1 << 30,
             max_sources: 8192,
             epsilon: DEFAULT_EPSILON,
-            min_element_area: 0.0,
+            min_element_area: None,
         }
     }
 }
@@ -179,7 +179,7 @@ pub struct Solution {
 }
 
 /// Why a solve failed.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SolveError {
     /// The stored form-factor matrix would exceed the memory limit.
     #[error(
@@ -196,6 +196,14 @@ pub enum SolveError {
     /// The checkpoint to resume from was made by another solver, scene or settings.
     #[error("the checkpoint does not belong to this run: {0}")]
     CheckpointMismatch(String),
+    /// A setting outside its range.
+    #[error("{name} must be positive and finite, not {value}")]
+    NotPositive {
+        /// The setting's name in [`Settings`].
+        name: &'static str,
+        /// Its value.
+        value: f64,
+    },
     /// The sources are not a cut through the quadtrees.
     #[error("the sources do not cover element {element} exactly once")]
     BadSources {

@@ -3,9 +3,8 @@
 //! - *Incoherent* rays, as in radiosity gathering and path tracing: each starts at a uniform
 //!   random point of a random triangle, lifted off it by 10⁻⁴ of the scene diagonal along the
 //!   normal n = (b − a) × (c − a), and goes in a cosine-distributed direction of the hemisphere
-//!   around n (Malley's method: a uniform point of the unit disk lifted to the hemisphere,
-//!   pdf = cos θ / π). Neighbouring rays share nothing, so every ray walks its own path
-//!   through the tree. t runs to [`T_MAX`].
+//!   around n ([`cosine_direction`], pdf = cos θ / π). Neighbouring rays share nothing, so
+//!   every ray walks its own path through the tree. t runs to [`T_MAX`].
 //! - *Primary* rays of a pinhole camera, one through the centre of each pixel of a
 //!   [`PRIMARY_SIDE`]² image, row by row: neighbouring rays start at one point and differ by
 //!   a fraction of a degree, so they visit nearly the same nodes in the same order (the rays
@@ -24,6 +23,7 @@ use glam::Vec3;
 use super::super::{Bvh, Ray};
 use super::T_MAX;
 use crate::hash::SplitMix;
+use crate::sampling::cosine_direction;
 
 /// Side of the square image the primary rays are cast through.
 pub const PRIMARY_SIDE: usize = 512;
@@ -103,13 +103,8 @@ pub fn incoherent(triangles: &[[Vec3; 3]], bvh: &Bvh, count: usize, seed: u64) -
             (s, t) = (1.0 - s, 1.0 - t);
         }
         let origin = a + s * (b - a) + t * (c - a) + lift * n;
-        // Cosine-distributed direction around n (Malley's method).
-        let r = uniform(&mut rng).sqrt();
-        let phi = std::f32::consts::TAU * uniform(&mut rng);
-        let (x, y) = (r * phi.cos(), r * phi.sin());
-        let z = (1.0 - r * r).max(0.0).sqrt();
-        let (t1, t2) = n.any_orthonormal_pair();
-        rays.push(Ray::new(origin, x * t1 + y * t2 + z * n));
+        let (u1, u2) = (uniform(&mut rng), uniform(&mut rng));
+        rays.push(Ray::new(origin, cosine_direction(n, u1, u2)));
     }
     RaySet {
         name: "incoherent",

@@ -51,11 +51,12 @@ use glam::Vec3;
 
 use self::evaluate::Evaluation;
 use self::optics::{fresnel_dielectric, reflect, refract};
-use self::sample::{cosine_direction, render_tiles, Sampler};
+use self::sample::{render_tiles, Sampler};
 use self::world::{SurfaceHit, World};
 use super::{Image, Projection, RasterSettings};
 use crate::mesh::{LitMesh, Mesh};
 pub use crate::render::watch::Watch;
+use crate::sampling::cosine_direction;
 use crate::scene::Camera;
 use crate::{Rgb, Scene};
 

@@ -1,5 +1,5 @@
-//! Deterministic sampling: hashed random numbers, stratified pixel samples, cosine-weighted
-//! directions and the tile loop every ray-traced image runs in.
+//! Deterministic sampling: hashed random numbers, stratified pixel samples, points of
+//! triangles and the tile loop every ray-traced image runs in.
 //!
 //! Every random number is a hash of *where* it is used — pixel, sample, dimension — never of
 //! the order in which threads reach it, so images are bit-identical for any thread count. The
@@ -8,8 +8,8 @@
 //!
 //! Stratification: the s × s samples of a pixel sit one in each sub-square, jittered inside it;
 //! n gather or shadow samples are stratified in their first dimension ((k + ξ)/n) and random in
-//! the second. Cosine-weighted hemisphere directions use Malley's method: a uniform point on the
-//! unit disk, r = √u₁, φ = 2πu₂, lifted to the hemisphere, has density cos θ / π.
+//! the second. Cosine-weighted hemisphere directions come from
+//! [`crate::sampling::cosine_direction`].
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -54,16 +54,6 @@ pub fn grid_side(samples_per_pixel: u32) -> u32 {
         s += 1;
     }
     s
-}
-
-/// A unit vector in the hemisphere around unit `n`, with density cos θ / π, from (u₁, u₂).
-#[must_use]
-pub fn cosine_direction(n: Vec3, u1: f32, u2: f32) -> Vec3 {
-    let r = u1.sqrt();
-    let phi = std::f32::consts::TAU * u2;
-    let (t, b) = n.any_orthonormal_pair();
-    let z = (1.0 - u1).max(0.0).sqrt();
-    (t * (r * phi.cos()) + b * (r * phi.sin()) + n * z).normalize_or(n)
 }
 
 /// A point of triangle `tri`, uniform in area, from (u₁, u₂) ∈ [0, 1)².
@@ -155,20 +145,6 @@ mod tests {
         assert!((mean - 0.5).abs() < 0.02, "{mean}");
         assert_eq!(Sampler::new(3, 5, 7).next_f32(), draws[0]);
         assert_ne!(Sampler::new(5, 3, 7).next_f32(), draws[0]);
-    }
-
-    #[test]
-    fn cosine_directions_have_mean_cosine_two_thirds() {
-        // E[cos θ] under the density cos θ / π is 2/3; 4096 stratified samples, tolerance 0.01.
-        let n = Vec3::new(1.0, 2.0, -0.5).normalize();
-        let mut s = Sampler::new(0, 0, 0);
-        let mut sum = 0.0;
-        for k in 0..4096 {
-            let d = cosine_direction(n, (k as f32 + s.next_f32()) / 4096.0, s.next_f32());
-            assert!((d.length() - 1.0).abs() < 1e-5 && d.dot(n) >= 0.0);
-            sum += d.dot(n);
-        }
-        assert!((sum / 4096.0 - 2.0 / 3.0).abs() < 0.01, "{}", sum / 4096.0);
     }
 
     #[test]

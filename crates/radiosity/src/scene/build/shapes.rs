@@ -7,7 +7,7 @@ use std::path::Path;
 use glam::Vec3;
 use model::{PolyMesh, Transform};
 
-use crate::scene::description::{Field, ObjectDesc, Pos, SceneDesc, ShapeDesc};
+use crate::scene::description::{BaseMesh, Field, ObjectDesc, Pos, SceneDesc, ShapeDesc};
 use crate::scene::{Loc, SceneError};
 
 /// Default chordal tolerance of curved shapes, as a fraction of the control net's diagonal.
@@ -227,31 +227,30 @@ pub(super) fn modeled_mesh(
             levels,
         } => {
             let mesh = match (base, vertices, faces) {
-                (Some(b), _, _) if b.value == "tetrahedron" => PolyMesh {
-                    positions: vec![
-                        Vec3::new(1.0, 1.0, 1.0),
-                        Vec3::new(1.0, -1.0, -1.0),
-                        Vec3::new(-1.0, 1.0, -1.0),
-                        Vec3::new(-1.0, -1.0, 1.0),
-                    ]
-                    .into_iter()
-                    .map(|p| p * 0.5)
-                    .collect(),
-                    faces: vec![vec![0, 1, 2], vec![0, 3, 1], vec![0, 2, 3], vec![1, 3, 2]],
+                (Some(b), _, _) => match b.value {
+                    BaseMesh::Cube => {
+                        model::primitives::cuboid(Vec3::splat(-0.5), Vec3::splat(0.5))
+                    }
+                    BaseMesh::Tetrahedron => PolyMesh {
+                        positions: vec![
+                            Vec3::new(1.0, 1.0, 1.0),
+                            Vec3::new(1.0, -1.0, -1.0),
+                            Vec3::new(-1.0, 1.0, -1.0),
+                            Vec3::new(-1.0, -1.0, 1.0),
+                        ]
+                        .into_iter()
+                        .map(|p| p * 0.5)
+                        .collect(),
+                        faces: vec![vec![0, 1, 2], vec![0, 3, 1], vec![0, 2, 3], vec![1, 3, 2]],
+                    },
                 },
-                (Some(_), _, _) => model::primitives::cuboid(Vec3::splat(-0.5), Vec3::splat(0.5)),
                 (None, Some(v), Some(f)) => PolyMesh {
                     positions: v.value.clone(),
                     faces: f.value.clone(),
                 },
                 _ => return Err(at_object("base", "missing base mesh".into())),
             };
-            let scheme = if scheme.value == "loop" {
-                surface::subdivision::Scheme::Loop
-            } else {
-                surface::subdivision::Scheme::CatmullClark
-            };
-            surface::subdivision::subdivide(&mesh, scheme, levels.value)
+            surface::subdivision::subdivide(&mesh, scheme.value, levels.value)
         }
         _ => PolyMesh::default(),
     })
@@ -283,11 +282,6 @@ pub(super) fn solid_mesh(
                 .unwrap_or_default()
         }
         ShapeDesc::Csg { op, operands } => {
-            let op = match op.value.as_str() {
-                "union" => model::csg::CsgOp::Union,
-                "intersection" => model::csg::CsgOp::Intersection,
-                _ => model::csg::CsgOp::Difference,
-            };
             let mut result: Option<PolyMesh> = None;
             for operand in &operands.value {
                 let mut mesh = solid_mesh(desc, o, &operand.shape)?;
@@ -300,7 +294,7 @@ pub(super) fn solid_mesh(
                 }
                 result = Some(match result {
                     None => mesh,
-                    Some(acc) => model::csg::apply(op, &acc, &mesh),
+                    Some(acc) => model::csg::apply(op.value, &acc, &mesh),
                 });
             }
             result.unwrap_or_default()

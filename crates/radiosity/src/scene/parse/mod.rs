@@ -13,6 +13,7 @@ mod sdf;
 mod shape;
 mod source;
 mod table;
+mod transform;
 mod value;
 
 use std::path::Path;

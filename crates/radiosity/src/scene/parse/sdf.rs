@@ -5,9 +5,9 @@
 use glam::Vec3;
 use model::implicit::Sdf;
 
-use super::shape::take_transform;
 use super::source::Source;
 use super::table::Table;
+use super::transform::take_transform;
 use super::value::Value;
 use crate::scene::description::Field;
 use crate::scene::SceneError;

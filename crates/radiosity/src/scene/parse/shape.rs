@@ -1,15 +1,17 @@
 //! Objects and their shapes: the keys every `[[objects]]` entry may have, then the keys the
-//! `shape` selects (see [`SHAPES`]), and the `csg` operands and `transform` tables they hold.
+//! `shape` selects (see [`SHAPES`]), and the `csg` operands they hold.
 
 use std::path::PathBuf;
 
 use glam::Vec3;
+use model::csg::CsgOp;
+use model::surface::subdivision::Scheme;
 
 use super::sdf::parse_sdf;
 use super::table::Table;
-use super::value::Kind;
+use super::transform::take_transform;
 use super::{DEFAULT_IMPLICIT_RESOLUTION, DEFAULT_SPHERE_SUBDIVISIONS, DEFAULT_SUBDIVISION_LEVELS};
-use crate::scene::description::{ObjectDesc, OperandDesc, ShapeDesc, TransformDesc};
+use crate::scene::description::{BaseMesh, ObjectDesc, OperandDesc, ShapeDesc};
 use crate::scene::SceneError;
 
 /// The keys every object may have, whatever its shape.
@@ -63,15 +65,14 @@ pub(super) fn parse_object(mut t: Table<'_>, index: usize) -> Result<ObjectDesc,
     let shape = t.required_with("shape", |k, v| src.string(k, v))?;
     let Some(allowed) = allowed_keys(&shape.value, OBJECT_KEYS) else {
         let known: Vec<&str> = SHAPES.iter().map(|(s, _)| *s).collect();
-        return Err(SceneError::at(
-            src.loc_of(shape.pos),
+        return Err(src.error_at(
+            &shape,
             format!(
                 "unknown shape `{}` (expected one of: {})",
                 shape.value,
                 known.join(", ")
             ),
-        )
-        .with_key(shape.key));
+        ));
     };
     t.check_keys(&allowed)?;
     let name = t.optional("name", |k, v| src.string(k, v))?;
@@ -141,13 +142,37 @@ fn parse_shape(kind: &str, t: &mut Table<'_>) -> Result<ShapeDesc, SceneError> {
             tolerance: t.optional("tolerance", |k, v| src.f64(k, v))?,
         },
         "subdivision" => ShapeDesc::Subdivision {
-            base: t.optional("base", |k, v| src.string(k, v))?,
+            base: t.optional("base", |k, v| {
+                let name = src.string(k, v)?;
+                let base = match name.value.as_str() {
+                    "cube" => BaseMesh::Cube,
+                    "tetrahedron" => BaseMesh::Tetrahedron,
+                    other => {
+                        return Err(src.error_at(
+                            &name,
+                            format!("unknown base `{other}` (expected cube or tetrahedron)"),
+                        ))
+                    }
+                };
+                Ok(name.map(|_| base))
+            })?,
             vertices: t.optional("vertices", |k, v| src.vec3_list(k, v))?,
             faces: t.optional("faces", |k, v| {
                 src.list(k, v, |k, v| src.list(k, v, |k, v| src.u32(k, v)))
             })?,
-            scheme: t.optional_with("scheme", "catmull_clark".to_string(), |k, v| {
-                src.string(k, v)
+            scheme: t.optional_with("scheme", Scheme::CatmullClark, |k, v| {
+                let name = src.string(k, v)?;
+                let scheme = match name.value.as_str() {
+                    "catmull_clark" => Scheme::CatmullClark,
+                    "loop" => Scheme::Loop,
+                    other => {
+                        return Err(src.error_at(
+                            &name,
+                            format!("unknown scheme `{other}` (expected catmull_clark or loop)"),
+                        ))
+                    }
+                };
+                Ok(name.map(|_| scheme))
             })?,
             levels: t.optional_with("levels", DEFAULT_SUBDIVISION_LEVELS, |k, v| src.u32(k, v))?,
         },
@@ -165,7 +190,20 @@ fn parse_shape(kind: &str, t: &mut Table<'_>) -> Result<ShapeDesc, SceneError> {
             })?,
         },
         "csg" => ShapeDesc::Csg {
-            op: t.required_with("op", |k, v| src.string(k, v))?,
+            op: t.required_with("op", |k, v| {
+                let name = src.string(k, v)?;
+                let op = match name.value.as_str() {
+                    "union" => CsgOp::Union,
+                    "intersection" => CsgOp::Intersection,
+                    "difference" => CsgOp::Difference,
+                    _ => {
+                        return Err(
+                            src.error_at(&name, "expected `union`, `intersection` or `difference`")
+                        )
+                    }
+                };
+                Ok(name.map(|_| op))
+            })?,
             operands: t.required_with("operands", |k, v| {
                 let at = src.field(k, &v, ());
                 let items = src
@@ -201,11 +239,7 @@ fn parse_operand(mut t: Table<'_>) -> Result<OperandDesc, SceneError> {
     let src = t.src;
     let shape = t.required_with("shape", |k, v| src.string(k, v))?;
     let Some(allowed) = allowed_keys(&shape.value, &["shape", "transform"]) else {
-        return Err(SceneError::at(
-            src.loc_of(shape.pos),
-            format!("unknown shape `{}`", shape.value),
-        )
-        .with_key(shape.key));
+        return Err(src.error_at(&shape, format!("unknown shape `{}`", shape.value)));
     };
     t.check_keys(&allowed)?;
     let transform = take_transform(&mut t)?;
@@ -221,26 +255,4 @@ fn parse_operand(mut t: Table<'_>) -> Result<OperandDesc, SceneError> {
 fn allowed_keys(name: &str, common: &[&'static str]) -> Option<Vec<&'static str>> {
     let (_, keys) = SHAPES.iter().find(|(s, _)| *s == name)?;
     Some(common.iter().chain(keys.iter()).copied().collect())
-}
-
-/// The optional `transform` table of an object, operand or signed distance expression.
-pub(super) fn take_transform(t: &mut Table<'_>) -> Result<Option<TransformDesc>, SceneError> {
-    let path = t.child_path("transform");
-    t.take("transform")
-        .map(|(_, v)| parse_transform(Table::new(t.src, path, v)?))
-        .transpose()
-}
-
-/// `transform = { scale, rotate, translate }`.
-fn parse_transform(mut t: Table<'_>) -> Result<TransformDesc, SceneError> {
-    let src = t.src;
-    t.check_keys(&["scale", "rotate", "translate"])?;
-    Ok(TransformDesc {
-        scale: t.optional_with("scale", Vec3::ONE, |k, v| match &v.kind {
-            Kind::Array(_) => src.vec3(k, v),
-            _ => Ok(src.f32(k, v)?.map(Vec3::splat)),
-        })?,
-        rotate: t.optional_with("rotate", Vec3::ZERO, |k, v| src.vec3(k, v))?,
-        translate: t.optional_with("translate", Vec3::ZERO, |k, v| src.vec3(k, v))?,
-    })
 }

@@ -71,6 +71,11 @@ impl<'a> Source<'a> {
         }
     }
 
+    /// An error at the value of `f`, naming its key.
+    pub(super) fn error_at<T>(&self, f: &Field<T>, message: impl Into<String>) -> SceneError {
+        SceneError::at(self.loc_of(f.pos), message).with_key(f.key.clone())
+    }
+
     pub(super) fn wrong_type(&self, key: &str, v: &Value, expected: &str) -> SceneError {
         self.error(
             &v.span,

@@ -165,8 +165,9 @@ impl Solver for Hierarchical {
 /// A scene that emits nothing gives B = 0 at once, with no links.
 ///
 /// # Errors
-/// [`SolveError::CheckpointMismatch`] when the checkpoint to resume from belongs to another
-/// run.
+/// [`SolveError::NotPositive`] when `epsilon` or `min_element_area` is zero, negative or not
+/// finite; [`SolveError::CheckpointMismatch`] when the checkpoint to resume from belongs to
+/// another run.
 pub fn run(
     mesh: &mut Mesh,
     bvh: &Bvh,
@@ -175,6 +176,15 @@ pub fn run(
     progress: &dyn Progress,
 ) -> Result<Outcome, SolveError> {
     let began = Instant::now();
+    let positive = [
+        ("epsilon", Some(settings.epsilon)),
+        ("min_element_area", settings.min_element_area),
+    ];
+    for (name, value) in positive {
+        if let Some(value) = value.filter(|v| !(*v > 0.0 && v.is_finite())) {
+            return Err(SolveError::NotPositive { name, value });
+        }
+    }
     let problem = Problem::new(mesh, &[], Method::Hierarchical, control.context);
     let mut session = Session::new(control, problem, Method::Hierarchical)?;
     let clusters = Clusters::build(mesh);
@@ -210,16 +220,10 @@ pub fn run(
         out.stats.peak_memory_bytes = memory(mesh, &clusters, 0);
         return Ok(out);
     }
-    let epsilon = if settings.epsilon > 0.0 {
-        settings.epsilon
-    } else {
-        super::DEFAULT_EPSILON
-    };
-    let min_area = if settings.min_element_area > 0.0 {
-        settings.min_element_area
-    } else {
-        mesh.total_area() * MIN_AREA_FRACTION
-    };
+    let epsilon = settings.epsilon;
+    let min_area = settings
+        .min_element_area
+        .unwrap_or_else(|| mesh.total_area() * MIN_AREA_FRACTION);
     let mut links: Vec<Link> = Vec::new();
     let mut splits: Vec<u32> = Vec::new();
     let mut peak = 0;
