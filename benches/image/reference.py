@@ -5,11 +5,15 @@ The geometry, materials and emitters are read as benches/suite/reference.py read
 `load` and `scene_dict`: the same Mitsuba scene the per-object references use), and the camera
 from the TOML file's [camera] table (eye, target, up, fov_y). Integrator `path`, max_depth 256,
 Russian roulette from depth 5; a box pixel filter of one pixel, as our renderer's pixels are the
-mean over their square. The image is linear radiance (W m^-2 sr^-1), written as EXR.
+mean over their square. The image is linear radiance (W m^-2 sr^-1), written as EXR, or as PFM
+when the output name ends in `.pfm` (the standard Portable Float Map that our renderer's
+`read_pfm` reads: `PF\n{w} {h}\n-1.0\n`, then little-endian f32 RGB, bottom row first).
+The committed references made with it are in benches/image/reference/ (README.md there).
 
 Usage (LLVM back end: apt-get install libllvm19):
     DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 \\
     python3 benches/image/reference.py scenes/cornell/scene.toml --spp 4096 -o ref.exr
+    (or `-o ref.pfm` for PFM)
 """
 
 import argparse
@@ -23,7 +27,18 @@ HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "suite"))
 
 import mitsuba as mi  # noqa: E402
+import numpy as np  # noqa: E402
 import reference as suite  # noqa: E402
+
+
+def write_pfm(path, bitmap):
+    """Standard colour PFM: header `PF\\n{w} {h}\\n-1.0\\n` (negative scale: little-endian),
+    then float32 RGB, rows from the bottom of the image to the top."""
+    rgb = np.array(bitmap, dtype=np.float32)[..., :3]  # rows top to bottom
+    h, w = rgb.shape[:2]
+    with open(path, "wb") as f:
+        f.write(f"PF\n{w} {h}\n-1.0\n".encode("ascii"))
+        f.write(np.ascontiguousarray(rgb[::-1]).astype("<f4").tobytes())
 
 
 def main():
@@ -56,7 +71,10 @@ def main():
         t = time.time()
         bitmap = mi.Bitmap(mi.render(scene, spp=args.spp, seed=args.seed))  # evaluated here, not lazily later
         seconds = time.time() - t
-    bitmap.write(args.output)
+    if args.output.lower().endswith(".pfm"):
+        write_pfm(args.output, bitmap)
+    else:
+        bitmap.write(args.output)
     print(f"{args.output}: {args.width}x{args.height}, {args.spp} spp, {seconds:.1f} s")
 
 
