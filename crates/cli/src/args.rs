@@ -195,9 +195,10 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub view: ViewArgs,
     /// Antialiasing samples per pixel, taken as an s×s grid: a square, 1, 4, 9, ... 64
-    /// (others are refused).
-    #[arg(long, default_value_t = 4, value_parser = square_samples)]
-    pub samples: u32,
+    /// (others are refused). Default: 4; 64 with `--mode final`, which evaluates the light once
+    /// per pixel and surface and uses the samples for the edges' coverage.
+    #[arg(long, value_parser = square_samples)]
+    pub samples: Option<u32>,
     /// Exposure of .png outputs in stops (radiance × 2^STOPS); default: automatic (the
     /// log-average luminance maps to middle grey).
     #[arg(long, value_name = "STOPS", allow_negative_numbers = true, value_parser = finite_f32)]

@@ -24,9 +24,14 @@ use crate::args::BenchArgs;
 use crate::bars::Bars;
 
 /// The configurations measured: a name and the `render` flags that make it.
-const CONFIGURATIONS: [(&str, &[&str]); 7] = [
-    ("default (interpolated)", &[]),
-    ("--mode final", &["--mode", "final"]),
+const CONFIGURATIONS: [(&str, &[&str]); 9] = [
+    ("default (interpolated, 4 samples)", &[]),
+    ("--samples 64", &["--samples", "64"]),
+    ("--mode final (64 samples)", &["--mode", "final"]),
+    (
+        "--mode final --samples 16",
+        &["--mode", "final", "--samples", "16"],
+    ),
     ("--elements 16000", &["--elements", "16000"]),
     (
         "--mode final --elements 16000",

@@ -64,11 +64,10 @@ pub fn triangle_point(tri: &[Vec3; 3], u1: f32, u2: f32) -> Vec3 {
     tri[0] * (1.0 - b1 - b2) + tri[1] * b1 + tri[2] * b2
 }
 
-/// Renders a `width` × `height` image whose pixel (x, y) is the mean of `shade(x, y, px, py,
+/// Renders a `width` × `height` image whose pixel (x, y) is the mean of `shade(px, py,
 /// sampler)` over an s × s jittered grid of points (px, py) in it (s from
 /// [`grid_side`]`(samples_per_pixel)`; `jitter = false` puts them at the sub-square centres, as
-/// the rasterizer does). Tiles of 16 × 16 pixels run in parallel; the result does not depend on
-/// the number of threads. `None` if `watch` was told to stop before the last tile.
+/// the rasterizer does). See [`render_pixels`] for the tiles.
 pub fn render_tiles<F>(
     width: u32,
     height: u32,
@@ -80,9 +79,47 @@ pub fn render_tiles<F>(
 where
     F: Fn(f32, f32, &mut Sampler) -> Rgb + Sync,
 {
-    let mut image = Image::new(width, height);
     let side = grid_side(samples_per_pixel);
     let norm = 1.0 / f64::from(side * side);
+    render_pixels(width, height, watch, |x, y| {
+        let mut sum = Rgb::ZERO;
+        for (px, py, mut sampler) in pixel_samples(x, y, side, jitter) {
+            sum += shade(px, py, &mut sampler);
+        }
+        sum * norm
+    })
+}
+
+/// The s × s sample points (px, py) of pixel (x, y), each with its own random stream (whose
+/// first two draws placed it, when `jitter`).
+pub fn pixel_samples(
+    x: u32,
+    y: u32,
+    side: u32,
+    jitter: bool,
+) -> impl Iterator<Item = (f32, f32, Sampler)> {
+    (0..side * side).map(move |k| {
+        let (i, j) = (k % side, k / side);
+        let mut sampler = Sampler::new(x, y, k);
+        let (dx, dy) = if jitter {
+            (sampler.next_f32(), sampler.next_f32())
+        } else {
+            (0.5, 0.5)
+        };
+        let px = x as f32 + (i as f32 + dx) / side as f32;
+        let py = y as f32 + (j as f32 + dy) / side as f32;
+        (px, py, sampler)
+    })
+}
+
+/// Renders a `width` × `height` image whose pixel (x, y) is `pixel(x, y)`. Tiles of 16 × 16
+/// pixels run in parallel; the result does not depend on the number of threads. `None` if
+/// `watch` was told to stop before the last tile.
+pub fn render_pixels<F>(width: u32, height: u32, watch: &Watch, pixel: F) -> Option<Image>
+where
+    F: Fn(u32, u32) -> Rgb + Sync,
+{
+    let mut image = Image::new(width, height);
     let (tiles_x, tiles_y) = (width.div_ceil(TILE), height.div_ceil(TILE));
     watch.progress.start("render", u64::from(tiles_x * tiles_y));
     let tiles: Vec<(u32, Vec<Rgb>)> = (0..tiles_x * tiles_y)
@@ -95,21 +132,7 @@ where
             let mut out = Vec::with_capacity((TILE * TILE) as usize);
             for y in y0..(y0 + TILE).min(height) {
                 for x in x0..(x0 + TILE).min(width) {
-                    let mut sum = Rgb::ZERO;
-                    for j in 0..side {
-                        for i in 0..side {
-                            let mut sampler = Sampler::new(x, y, j * side + i);
-                            let (dx, dy) = if jitter {
-                                (sampler.next_f32(), sampler.next_f32())
-                            } else {
-                                (0.5, 0.5)
-                            };
-                            let px = x as f32 + (i as f32 + dx) / side as f32;
-                            let py = y as f32 + (j as f32 + dy) / side as f32;
-                            sum += shade(px, py, &mut sampler);
-                        }
-                    }
-                    out.push(sum * norm);
+                    out.push(pixel(x, y));
                 }
             }
             watch.progress.advance(1);
