@@ -59,18 +59,28 @@ def material(name, rho, emission):
     return m
 
 
+def image_size(scene, width, height):
+    """The image size asked for, else the TOML scene's [render] size (as our `render` takes it),
+    else 512 x 512 (our default for scenes without one)."""
+    size = {}
+    if pathlib.Path(scene).suffix.lower() == ".toml":
+        size = tomllib.loads(pathlib.Path(scene).read_text()).get("render", {})
+    return (width or int(size.get("width", 512)), height or int(size.get("height", 512)))
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("scene")
-    p.add_argument("--width", type=int, default=512)
-    p.add_argument("--height", type=int, default=512)
+    p.add_argument("--width", type=int, help="default: the scene's [render] width, else 512")
+    p.add_argument("--height", type=int, help="default: the scene's [render] height, else 512")
     p.add_argument("--spp", type=int, default=64)
     p.add_argument("--denoise", action="store_true")
     p.add_argument("--threads", type=int, default=0, help="0: all cores")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("-o", "--output", required=True)
     args = p.parse_args(argv)
+    args.width, args.height = image_size(args.scene, args.width, args.height)
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene

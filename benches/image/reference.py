@@ -41,17 +41,27 @@ def write_pfm(path, bitmap):
         f.write(np.ascontiguousarray(rgb[::-1]).astype("<f4").tobytes())
 
 
+def image_size(scene, width, height):
+    """The image size asked for, else the TOML scene's [render] size (as our `render` takes it),
+    else 512 x 512 (our default for scenes without one)."""
+    size = {}
+    if pathlib.Path(scene).suffix.lower() == ".toml":
+        size = tomllib.loads(pathlib.Path(scene).read_text()).get("render", {})
+    return (width or int(size.get("width", 512)), height or int(size.get("height", 512)))
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("scene")
-    p.add_argument("--width", type=int, default=512)
-    p.add_argument("--height", type=int, default=512)
+    p.add_argument("--width", type=int, help="default: the scene's [render] width, else 512")
+    p.add_argument("--height", type=int, help="default: the scene's [render] height, else 512")
     p.add_argument("--spp", type=int, default=4096)
     p.add_argument("--variant", default="llvm_ad_rgb")
     p.add_argument("--seed", type=int, default=0, help="sampler seed (a reference and a "
                    "cheaper render compared with it need different seeds)")
     p.add_argument("-o", "--output", required=True)
     args = p.parse_args()
+    args.width, args.height = image_size(args.scene, args.width, args.height)
     mi.set_variant(args.variant)
     objects = suite.load(args.scene)
     scale = suite.scene_scale(objects)
@@ -75,7 +85,7 @@ def main():
         write_pfm(args.output, bitmap)
     else:
         bitmap.write(args.output)
-    print(f"{args.output}: {args.width}x{args.height}, {args.spp} spp, {seconds:.1f} s")
+    print(f"{args.output}: {args.width}x{args.height}, {args.spp} spp, {seconds:.2f} s")
 
 
 if __name__ == "__main__":
