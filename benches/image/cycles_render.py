@@ -59,15 +59,6 @@ def material(name, rho, emission):
     return m
 
 
-def image_size(scene, width, height):
-    """The image size asked for, else the TOML scene's [render] size (as our `render` takes it),
-    else 512 x 512 (our default for scenes without one)."""
-    size = {}
-    if pathlib.Path(scene).suffix.lower() == ".toml":
-        size = tomllib.loads(pathlib.Path(scene).read_text()).get("render", {})
-    return (width or int(size.get("width", 512)), height or int(size.get("height", 512)))
-
-
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -80,7 +71,7 @@ def main():
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("-o", "--output", required=True)
     args = p.parse_args(argv)
-    args.width, args.height = image_size(args.scene, args.width, args.height)
+    args.width, args.height = suite.image_size(args.scene, args.width, args.height)
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene

@@ -41,15 +41,6 @@ def write_pfm(path, bitmap):
         f.write(np.ascontiguousarray(rgb[::-1]).astype("<f4").tobytes())
 
 
-def image_size(scene, width, height):
-    """The image size asked for, else the TOML scene's [render] size (as our `render` takes it),
-    else 512 x 512 (our default for scenes without one)."""
-    size = {}
-    if pathlib.Path(scene).suffix.lower() == ".toml":
-        size = tomllib.loads(pathlib.Path(scene).read_text()).get("render", {})
-    return (width or int(size.get("width", 512)), height or int(size.get("height", 512)))
-
-
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("scene")
@@ -61,7 +52,7 @@ def main():
                    "cheaper render compared with it need different seeds)")
     p.add_argument("-o", "--output", required=True)
     args = p.parse_args()
-    args.width, args.height = image_size(args.scene, args.width, args.height)
+    args.width, args.height = suite.image_size(args.scene, args.width, args.height)
     mi.set_variant(args.variant)
     objects = suite.load(args.scene)
     scale = suite.scene_scale(objects)

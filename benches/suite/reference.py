@@ -137,6 +137,15 @@ class Objects:
         return out
 
 
+def image_size(scene, width, height):
+    """The image size asked for, else the TOML scene's [render] size (as our `render` takes it),
+    else 512 x 512 (our default for scenes without one)."""
+    size = {}
+    if pathlib.Path(scene).suffix.lower() == ".toml":
+        size = tomllib.loads(pathlib.Path(scene).read_text()).get("render", {})
+    return (width or int(size.get("width", 512)), height or int(size.get("height", 512)))
+
+
 def read_mtl(path):
     mats = {}
     cur = None
