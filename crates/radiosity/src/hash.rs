@@ -16,6 +16,12 @@ pub fn mix(z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
+/// The top 24 bits of `bits` as a number in [0, 1), exact in `f32`.
+#[must_use]
+pub fn unit_f32(bits: u64) -> f32 {
+    (bits >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
+}
+
 /// The SplitMix64 generator (successive [`mix`] of a counter), for benchmarks and tools that
 /// want a plain stream.
 #[derive(Clone, Debug)]
@@ -27,6 +33,11 @@ impl SplitMix {
         let out = mix(self.0);
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         out
+    }
+
+    /// The next number in [0, 1) ([`unit_f32`] of the next 64 bits).
+    pub fn next_f32(&mut self) -> f32 {
+        unit_f32(self.next_u64())
     }
 }
 

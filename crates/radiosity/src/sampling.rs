@@ -37,11 +37,11 @@ pub fn cosine_direction(n: Vec3, u1: f32, u2: f32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::hash::mix;
+    use crate::hash::{mix, unit_f32};
 
     /// The k-th number in [0, 1) of a hashed stream (24 bits, exact in f32).
     fn unit(k: u64) -> f32 {
-        (mix(k) >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
+        unit_f32(mix(k))
     }
 
     #[test]

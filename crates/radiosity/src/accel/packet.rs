@@ -148,7 +148,7 @@ mod tests {
     #[test]
     fn packet_is_bit_identical_to_the_scalar_test() {
         let mut rng = SplitMix(11);
-        let mut unit = || (rng.next_u64() >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0;
+        let mut unit = || rng.next_f32() * 2.0 - 1.0;
         for _ in 0..2000 {
             let mut packet = Tri4::EMPTY;
             let mut tris = [(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO); LANES];

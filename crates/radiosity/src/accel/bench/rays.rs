@@ -61,11 +61,6 @@ pub struct AreaLight {
     pub edge_b: Vec3,
 }
 
-/// Uniform in [0, 1) from the next 24 bits of `rng`.
-fn uniform(rng: &mut SplitMix) -> f32 {
-    (rng.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
-}
-
 /// Uniform in 0..n (n > 0).
 fn below(rng: &mut SplitMix, n: usize) -> usize {
     (((rng.next_u64() >> 32) * n as u64) >> 32) as usize
@@ -98,12 +93,12 @@ pub fn incoherent(triangles: &[[Vec3; 3]], bvh: &Bvh, count: usize, seed: u64) -
         };
         misses = 0;
         // Uniform point of the triangle (fold the unit square onto it).
-        let (mut s, mut t) = (uniform(&mut rng), uniform(&mut rng));
+        let (mut s, mut t) = (rng.next_f32(), rng.next_f32());
         if s + t > 1.0 {
             (s, t) = (1.0 - s, 1.0 - t);
         }
         let origin = a + s * (b - a) + t * (c - a) + lift * n;
-        let (u1, u2) = (uniform(&mut rng), uniform(&mut rng));
+        let (u1, u2) = (rng.next_f32(), rng.next_f32());
         rays.push(Ray::new(origin, cosine_direction(n, u1, u2)));
     }
     RaySet {
@@ -161,8 +156,7 @@ pub fn shadow(
         let n = (b - a).cross(c - a).normalize_or_zero();
         let n = if n.dot(ray.dir) > 0.0 { -n } else { n };
         let origin = ray.at(hit.t) + lift * n;
-        let target =
-            light.corner + uniform(&mut rng) * light.edge_a + uniform(&mut rng) * light.edge_b;
+        let target = light.corner + rng.next_f32() * light.edge_a + rng.next_f32() * light.edge_b;
         rays.push(Ray::new(origin, target - origin));
     }
     RaySet {

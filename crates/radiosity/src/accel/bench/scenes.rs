@@ -48,11 +48,6 @@ fn fan(mesh: &model::PolyMesh, flip: bool, out: &mut Vec<[Vec3; 3]>) {
     }
 }
 
-/// Uniform in [0, 1) from the next 24 bits of `rng`.
-fn uniform(rng: &mut crate::hash::SplitMix) -> f32 {
-    (rng.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
-}
-
 /// The sphere field of about `target` triangles (within one sphere's worth), with its room
 /// (first, twelve triangles) if `closed`. The spheres do not depend on `closed`.
 #[must_use]
@@ -64,7 +59,7 @@ pub fn sphere_field_triangles(target: usize, closed: bool) -> Vec<[Vec3; 3]> {
     let room = tris.len();
     let mut rng = crate::hash::SplitMix(0x5EED);
     while tris.len() + 160 < target {
-        let s = uniform(&mut rng);
+        let s = rng.next_f32();
         let radius = 0.15 + 1.05 * s * s;
         // Finer spheres where they are larger, and never much past the target.
         let mut subdivisions = 2 + (radius > 0.4) as u32 + (radius > 0.8) as u32;
@@ -74,7 +69,7 @@ pub fn sphere_field_triangles(target: usize, closed: bool) -> Vec<[Vec3; 3]> {
         let span = hi - lo - Vec3::splat(2.0 * radius);
         let centre = lo
             + Vec3::splat(radius)
-            + span * Vec3::new(uniform(&mut rng), uniform(&mut rng), uniform(&mut rng));
+            + span * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
         fan(
             &model::primitives::icosphere(centre, radius, subdivisions),
             false,

@@ -14,7 +14,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::hash::mix;
+use crate::hash::{mix, unit_f32};
 use crate::render::{Image, Watch};
 use crate::Rgb;
 
@@ -41,7 +41,7 @@ impl Sampler {
     pub fn next_f32(&mut self) -> f32 {
         self.counter += 1;
         let bits = mix(self.key ^ self.counter.wrapping_mul(0xd1b5_4a32_d192_ed03));
-        (bits >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
+        unit_f32(bits)
     }
 }
 
