@@ -102,11 +102,7 @@ pub fn render(
             if hit.diffuse.is_none() && !(m.two_sided) {
                 return Rgb::ZERO; // the back of a one-sided surface
             }
-            let emitted = if hit.front {
-                world.emitted(hit.triangle)
-            } else {
-                Rgb::ZERO
-            };
+            let emitted = world.emitted(&hit);
             let diffuse = m.reflectance / std::f64::consts::PI;
             let specular = m.specular * ((n + 2.0) / std::f64::consts::TAU);
             let view = -dir;

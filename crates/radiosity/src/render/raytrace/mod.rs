@@ -187,11 +187,7 @@ fn render_evaluated(
                 continue;
             };
             let patch = world.patch(hit.triangle);
-            let emitted = if hit.front {
-                world.emitted(hit.triangle)
-            } else {
-                Rgb::ZERO
-            };
+            let emitted = world.emitted(&hit);
             match groups
                 .iter_mut()
                 .find(|g| g.patch == patch && g.front == hit.front)
@@ -223,15 +219,20 @@ fn render_evaluated(
                 &mut g.sampler,
             );
             for (d, emitted) in g.rays {
-                // The interpolated far part may dip below zero where the element's mean of the
-                // point terms exceeds the solution's; radiance never does.
-                sum +=
-                    (emitted + at_point / std::f64::consts::PI + world.radiance(d) * (1.0 - share))
-                        .max(Rgb::ZERO);
+                sum += evaluated_radiance(emitted, at_point, world.radiance(d), share);
             }
         }
         sum / f64::from(side * side)
     })
+}
+
+/// The radiance of an evaluated diffuse point ([`evaluate`]): its emission, the radiosity
+/// evaluated at the point (`at_point`, direct and near light) over π, and the interpolated
+/// radiance `far` of the lit mesh in the share of the view the near field leaves it. The far
+/// part may dip below zero where an element's mean of the point terms exceeds the solution's;
+/// radiance never does.
+fn evaluated_radiance(emitted: Rgb, at_point: Rgb, far: Rgb, share: f64) -> Rgb {
+    (emitted + at_point / std::f64::consts::PI + far * (1.0 - share)).max(Rgb::ZERO)
 }
 
 /// Renders the image through `camera`, a pixel being the mean of `shade(origin, dir, sampler)`
@@ -287,13 +288,6 @@ impl Tracer<'_> {
             return Rgb::ZERO;
         };
         let material = world.material(hit.triangle);
-        let emitted = || {
-            if hit.front {
-                world.emitted(hit.triangle)
-            } else {
-                Rgb::ZERO
-            }
-        };
         let mut radiance = match (hit.diffuse, self.evaluation) {
             (Some(d), Some(evaluation)) => {
                 let (at_point, share) = evaluation.radiosity(
@@ -305,13 +299,10 @@ impl Tracer<'_> {
                     self.settings.shadow_samples,
                     sampler,
                 );
-                // The interpolated far part may dip below zero where the element's mean of the
-                // point terms exceeds the solution's; radiance never does.
-                (emitted() + at_point / std::f64::consts::PI + world.radiance(d) * (1.0 - share))
-                    .max(Rgb::ZERO)
+                evaluated_radiance(world.emitted(&hit), at_point, world.radiance(d), share)
             }
             (Some(_), None) if self.gathers(material.reflectance, weight) => {
-                emitted() + material.reflectance * self.gather(&hit, sampler)
+                world.emitted(&hit) + material.reflectance * self.gather(&hit, sampler)
             }
             (Some(d), None) => world.radiance(d),
             (None, _) => Rgb::ZERO,
@@ -400,12 +391,7 @@ impl Tracer<'_> {
             let origin = hit.point + hit.normal * world.epsilon();
             if let Some(y) = world.intersect(origin, dir, f32::INFINITY) {
                 if let Some(d) = y.diffuse {
-                    let emitted = if y.front {
-                        world.emitted(y.triangle)
-                    } else {
-                        Rgb::ZERO
-                    };
-                    indirect += (world.radiance(d) - emitted).max(Rgb::ZERO);
+                    indirect += (world.radiance(d) - world.emitted(&y)).max(Rgb::ZERO);
                 }
             }
         }

@@ -334,10 +334,14 @@ impl<'a> World<'a> {
         (b[0] * (1.0 - u - v) + b[1] * u + b[2] * v) / std::f64::consts::PI
     }
 
-    /// Radiance emitted by lit triangle `t` toward its front, L_e = E/π.
+    /// Radiance emitted toward the ray that made `hit`: L_e = E/π of the triangle hit from its
+    /// front, nothing from behind (emitters shine from their front only).
     #[must_use]
-    pub fn emitted(&self, t: u32) -> Rgb {
-        let patch = &self.mesh.patches[self.lit.triangle_patch[t as usize] as usize];
+    pub fn emitted(&self, hit: &SurfaceHit) -> Rgb {
+        if !hit.front {
+            return Rgb::ZERO;
+        }
+        let patch = &self.mesh.patches[self.lit.triangle_patch[hit.triangle as usize] as usize];
         patch.emission / std::f64::consts::PI
     }
 
