@@ -57,6 +57,20 @@ fn trace(s: &Solved, size: u32, settings: &RaytraceSettings) -> Image {
     .expect("not stopped")
 }
 
+/// The evaluated render (`--mode final`) of `s` through its first camera.
+fn evaluate(s: &Solved, raster: &RasterSettings, settings: &RaytraceSettings) -> Image {
+    raytrace::evaluate::render(
+        &s.scene,
+        &s.mesh,
+        &s.solution.radiosity,
+        &s.scene.cameras[0],
+        raster,
+        settings,
+        &Watch::SILENT,
+    )
+    .expect("not stopped")
+}
+
 /// The pixel showing world point `p`.
 fn pixel_of(s: &Solved, size: u32, p: Vec3) -> (u32, u32) {
     let proj = Projection::new(&s.scene.cameras[0], size, size);
@@ -340,18 +354,8 @@ fn the_evaluated_render_gives_the_exact_direct_light_and_a_black_umbra() {
     // (0.8, 0, 0.5).
     let s = solve(SHADOW, 400);
     let size = 96;
-    let camera = &s.scene.cameras[0];
     let settings = centred(4, 0);
-    let evaluated = raytrace::evaluate::render(
-        &s.scene,
-        &s.mesh,
-        &s.solution.radiosity,
-        camera,
-        &image(size, 1),
-        &settings,
-        &Watch::SILENT,
-    )
-    .expect("not stopped");
+    let evaluated = evaluate(&s, &image(size, 1), &settings);
     for p in [Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.3, 0.0, -0.2)] {
         let (x, y) = pixel_of(&s, size, p);
         assert!(
@@ -401,16 +405,7 @@ fn the_evaluated_render_of_a_glowing_cube_is_uniform_into_its_corners() {
     }
     let s = solve(&toml, 600);
     let size = 24;
-    let evaluated = raytrace::evaluate::render(
-        &s.scene,
-        &s.mesh,
-        &s.solution.radiosity,
-        &s.scene.cameras[0],
-        &image(size, 1),
-        &centred(4, 0),
-        &Watch::SILENT,
-    )
-    .expect("not stopped");
+    let evaluated = evaluate(&s, &image(size, 1), &centred(4, 0));
     for y in 0..size {
         for x in 0..size {
             let l = evaluated.get(x, y);
@@ -523,15 +518,7 @@ fn images_do_not_depend_on_the_thread_count() {
                     &LocalSettings::default(),
                     &Watch::SILENT,
                 );
-                let c = raytrace::evaluate::render(
-                    &s.scene,
-                    &s.mesh,
-                    &s.solution.radiosity,
-                    camera,
-                    &image(40, 16),
-                    &RaytraceSettings::default(),
-                    &Watch::SILENT,
-                );
+                let c = evaluate(&s, &image(40, 16), &RaytraceSettings::default());
                 (a, b, c)
             })
     };
@@ -590,16 +577,7 @@ fn the_evaluated_render_follows_the_exact_profile_into_a_corner() {
     let size = 64;
     let settings = centred(1, 0);
     let camera = &s.scene.cameras[0];
-    let evaluated = raytrace::evaluate::render(
-        &s.scene,
-        &s.mesh,
-        &s.solution.radiosity,
-        camera,
-        &image(size, 1),
-        &settings,
-        &Watch::SILENT,
-    )
-    .expect("not stopped");
+    let evaluated = evaluate(&s, &image(size, 1), &settings);
     let interpolated = raster::render(&s.lit, camera, &image(size, 1));
     let proj = Projection::new(camera, size, size);
     let (mut worst_evaluated, mut worst_interpolated) = (0.0f64, 0.0f64);
@@ -645,16 +623,7 @@ fn the_evaluated_cornell_box_is_within_two_and_a_half_percent_of_a_path_tracer()
     let s = pipeline::solve(scene, &Settings::default(), &Silent).expect("solves");
     let camera = &s.scene.cameras[0];
     let raster = image(64, 64);
-    let evaluated = raytrace::evaluate::render(
-        &s.scene,
-        &s.mesh,
-        &s.solution.radiosity,
-        camera,
-        &raster,
-        &RaytraceSettings::default(),
-        &Watch::SILENT,
-    )
-    .expect("not stopped");
+    let evaluated = evaluate(&s, &raster, &RaytraceSettings::default());
     let interpolated = raster::render(&s.lit, camera, &raster);
     let error = |img: &Image| block_error(img, &reference, 4).expect("same size").rms;
     let (e, i) = (error(&evaluated), error(&interpolated));
