@@ -257,11 +257,7 @@ fn stands_near(
     let flat = |v: Vec3| v - normal * normal.dot(v - origin);
     // A footprint that grazes the leaf's edge parts off a sliver: not worth a split (the
     // walls of the classic Cornell box lean a few millimetres over the ceiling's edge).
-    let span = corners
-        .iter()
-        .flat_map(|a| corners.iter().map(move |b| a.distance(*b)))
-        .fold(0.0, f32::max);
-    let eps = eps.max(SLIVER * span);
+    let eps = eps.max(SLIVER * super::face::diameter(corners));
     (0..3).any(|k| {
         let (a, b) = (triangle[k], triangle[(k + 1) % 3]);
         let (da, db) = (d[k], d[(k + 1) % 3]);

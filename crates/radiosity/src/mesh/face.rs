@@ -150,18 +150,23 @@ impl Face {
         }
     }
 
-    /// Length of the longest edge.
+    /// Length of the longest edge (or diagonal).
     #[must_use]
     pub fn diameter(&self) -> f32 {
-        let cs = self.corners();
-        let mut d: f32 = 0.0;
-        for (i, a) in cs.iter().enumerate() {
-            for b in &cs[i + 1..] {
-                d = d.max(a.distance(*b));
-            }
-        }
-        d
+        diameter(self.corners())
     }
+}
+
+/// The largest distance between two of `points` (0 for fewer than two).
+#[must_use]
+pub fn diameter(points: &[Vec3]) -> f32 {
+    let mut d: f32 = 0.0;
+    for (i, a) in points.iter().enumerate() {
+        for b in &points[i + 1..] {
+            d = d.max(a.distance(*b));
+        }
+    }
+    d
 }
 
 #[cfg(test)]

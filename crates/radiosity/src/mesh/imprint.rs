@@ -75,7 +75,7 @@ pub(super) fn imprint(scene: &Scene, pieces: &mut [Piece]) {
     for piece in pieces.iter_mut().filter(|p| area(p) >= large) {
         let normal = piece.normal.as_dvec3();
         let origin = piece.roots[0].corners()[0].as_dvec3();
-        let (lo, hi) = bounds(piece.roots.iter().flat_map(|f| f.corners().to_vec()));
+        let (lo, hi) = bounds(piece.roots.iter().flat_map(|f| f.corners().iter().copied()));
         for q in &outlines {
             let overlaps = (q.lo - q.reach).cmple(hi).all() && (q.hi + q.reach).cmpge(lo).all();
             if q.polygon == piece.polygon
@@ -117,16 +117,12 @@ fn outline(polygon: usize, vertices: &[Vec3], large: f64) -> Option<Outline> {
     }
     let corners: Vec<DVec3> = vertices.iter().map(|v| v.as_dvec3()).collect();
     let (lo, hi) = bounds(vertices.iter().copied());
-    let diameter = corners
-        .iter()
-        .flat_map(|a| corners.iter().map(move |b| a.distance(*b)))
-        .fold(0.0, f64::max);
     Some(Outline {
         polygon,
         corners,
         lo,
         hi,
-        reach: f64::from(NEAR) * diameter,
+        reach: f64::from(NEAR * super::face::diameter(vertices)),
     })
 }
 

@@ -174,10 +174,7 @@ fn planar_pieces(vertices: &[Vec3]) -> Vec<(Vec3, Vec<Face>)> {
 /// plane through the corners' mean with the polygon's (Newell) normal.
 pub(super) fn is_planar(vertices: &[Vec3], normal: Vec3) -> bool {
     let mean = vertices.iter().sum::<Vec3>() / vertices.len() as f32;
-    let diameter = vertices
-        .iter()
-        .flat_map(|a| vertices.iter().map(move |b| a.distance(*b)))
-        .fold(0.0f32, f32::max);
+    let diameter = super::face::diameter(vertices);
     vertices
         .iter()
         .all(|v| normal.dot(*v - mean).abs() <= PLANAR_TOLERANCE * diameter)
