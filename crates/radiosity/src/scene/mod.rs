@@ -85,6 +85,13 @@ impl Material {
     pub fn is_emitter(&self) -> bool {
         self.emission.max_element() > 0.0
     }
+
+    /// Whether the material reflects specularly or transmits: ray tracing follows it, where
+    /// radiosity sees only its diffuse part.
+    #[must_use]
+    pub fn is_specular(&self) -> bool {
+        self.specular.max_element() > 0.0 || self.transmission.max_element() > 0.0
+    }
 }
 
 /// A named object: what stats and exports report per name.

@@ -97,7 +97,7 @@ pub fn has_specular(scene: &Scene) -> bool {
     scene
         .materials
         .iter()
-        .any(|m| m.specular.max_element() > 0.0 || m.transmission.max_element() > 0.0)
+        .any(crate::scene::Material::is_specular)
 }
 
 /// Ray traces the radiance image of the solved scene: `lit` is the lit mesh of `mesh`, which
@@ -178,10 +178,7 @@ fn render_evaluated(
         for (px, py, mut sampler) in pixel_samples(x, y, side, tracer.settings.jitter) {
             let (origin, dir) = proj.primary_ray(px, py);
             let hit = world.intersect(origin, dir, f32::INFINITY);
-            let plain = |h: &SurfaceHit| {
-                let m = world.material(h.triangle);
-                m.specular.max_element() <= 0.0 && m.transmission.max_element() <= 0.0
-            };
+            let plain = |h: &SurfaceHit| !world.material(h.triangle).is_specular();
             let Some((hit, d)) = hit.filter(plain).and_then(|h| h.diffuse.map(|d| (h, d))) else {
                 sum += tracer.trace(origin, dir, 0, Rgb::ONE, &mut sampler);
                 continue;
