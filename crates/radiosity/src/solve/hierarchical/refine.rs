@@ -67,9 +67,11 @@ impl Oracle<'_> {
 
     /// Whether the source of `l` is a split face whose leaves' radiosities differ so much that
     /// its mean misstates what it sends: ΔB_s·F·A_r above the variation threshold. BF
-    /// refinement judges a link by the source's mean B alone, so a table top whose elements
-    /// straddle a ball's shadow edge sent the ball the mean of its lit and shadowed parts
-    /// (the ball of `scenes/suite/furnished-room` 6.8 % too bright at ε = 10⁻⁴).
+    /// refinement judges a link by the source's mean B alone, so a face split across a
+    /// shadow edge sent every receiver the mean of its lit and shadowed parts. Measured on
+    /// `benches/suite` at ε = 10⁻⁴ (docs/validation.md, sixth round): closed-mesh +3.3 % →
+    /// −1.8 %, cornell-faces −4.3 % → −3.5 %, obj-box +4.4 % → +3.6 %; the furnished room's
+    /// ball (+6.9 %) did not move.
     fn source_varies(&self, view: &View, l: &Link) -> bool {
         l.source & CLUSTER == 0
             && self.node_spread[l.source as usize] * f64::from(l.factor) * view.area(l.receiver)
