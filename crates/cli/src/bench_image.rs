@@ -9,7 +9,7 @@
 //! over 4 × 4-pixel blocks, the measure the image issue states its goals in.
 
 use std::io::{IsTerminal, Write};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 use std::time::Instant;
 
@@ -65,7 +65,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let reference_path = args.reference.clone().unwrap_or_else(default_reference);
     let reference = read_pfm(&reference_path)?;
     let exe = std::env::current_exe().context("cannot find this program")?;
-    let dir = tempfile_dir()?;
+    let dir = Scratch::new()?;
     let mut out = std::io::stdout().lock();
     writeln!(
         out,
@@ -86,7 +86,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     bars.start("bench image", CONFIGURATIONS.len() as u64);
     let mut all = Vec::new();
     for (k, (name, flags)) in CONFIGURATIONS.iter().enumerate() {
-        let image = dir.join(format!("{k}.pfm"));
+        let image = dir.0.join(format!("{k}.pfm"));
         let start = Instant::now();
         let output = Command::new(&exe)
             .args(["render", &args.scene, "-q", "--width"])
@@ -100,7 +100,12 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             .context("cannot run a render")?;
         let seconds = start.elapsed().as_secs_f64();
         if !output.status.success() {
-            bail!("{name}: {}", String::from_utf8_lossy(&output.stderr).trim());
+            bail!(
+                "{name}: {}",
+                String::from_utf8_lossy(&output.stderr)
+                    .trim()
+                    .trim_start_matches("error: ")
+            );
         }
         let ours = read_pfm(&image)?;
         let e = block_error(&ours, &reference, BLOCK)
@@ -120,7 +125,6 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         bars.advance(1);
     }
     bars.finish();
-    let _ = std::fs::remove_dir_all(&dir);
     if let Some(path) = &args.json {
         let json = serde_json::to_vec_pretty(&all)?;
         write_atomic(path, |w| w.write_all(&json))
@@ -134,12 +138,24 @@ const BLOCK: u32 = 4;
 
 /// The committed reference, relative to the working directory (the repository's root).
 fn default_reference() -> PathBuf {
-    Path::new("benches/image/reference/cornell_256.pfm").to_path_buf()
+    PathBuf::from("benches/image/reference/cornell_256.pfm")
 }
 
-/// A fresh directory for the renders.
-fn tempfile_dir() -> anyhow::Result<PathBuf> {
-    let dir = std::env::temp_dir().join(format!("radiosity-bench-image-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).with_context(|| format!("{}: cannot create", dir.display()))?;
-    Ok(dir)
+/// A fresh directory for the renders, removed when dropped (also when a render fails).
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new() -> anyhow::Result<Self> {
+        let dir =
+            std::env::temp_dir().join(format!("radiosity-bench-image-{}", std::process::id()));
+        std::fs::create_dir_all(&dir)
+            .with_context(|| format!("{}: cannot create", dir.display()))?;
+        Ok(Self(dir))
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
 }
