@@ -143,36 +143,26 @@ fn parse_shape(kind: &str, t: &mut Table<'_>) -> Result<ShapeDesc, SceneError> {
         },
         "subdivision" => ShapeDesc::Subdivision {
             base: t.optional("base", |k, v| {
-                let name = src.string(k, v)?;
-                let base = match name.value.as_str() {
-                    "cube" => BaseMesh::Cube,
-                    "tetrahedron" => BaseMesh::Tetrahedron,
-                    other => {
-                        return Err(src.error_at(
-                            &name,
-                            format!("unknown base `{other}` (expected cube or tetrahedron)"),
-                        ))
-                    }
-                };
-                Ok(name.map(|_| base))
+                let bases = [
+                    ("cube", BaseMesh::Cube),
+                    ("tetrahedron", BaseMesh::Tetrahedron),
+                ];
+                src.keyword(k, v, &bases, |other| {
+                    format!("unknown base `{other}` (expected cube or tetrahedron)")
+                })
             })?,
             vertices: t.optional("vertices", |k, v| src.vec3_list(k, v))?,
             faces: t.optional("faces", |k, v| {
                 src.list(k, v, |k, v| src.list(k, v, |k, v| src.u32(k, v)))
             })?,
             scheme: t.optional_with("scheme", Scheme::CatmullClark, |k, v| {
-                let name = src.string(k, v)?;
-                let scheme = match name.value.as_str() {
-                    "catmull_clark" => Scheme::CatmullClark,
-                    "loop" => Scheme::Loop,
-                    other => {
-                        return Err(src.error_at(
-                            &name,
-                            format!("unknown scheme `{other}` (expected catmull_clark or loop)"),
-                        ))
-                    }
-                };
-                Ok(name.map(|_| scheme))
+                let schemes = [
+                    ("catmull_clark", Scheme::CatmullClark),
+                    ("loop", Scheme::Loop),
+                ];
+                src.keyword(k, v, &schemes, |other| {
+                    format!("unknown scheme `{other}` (expected catmull_clark or loop)")
+                })
             })?,
             levels: t.optional_with("levels", DEFAULT_SUBDIVISION_LEVELS, |k, v| src.u32(k, v))?,
         },
@@ -191,18 +181,14 @@ fn parse_shape(kind: &str, t: &mut Table<'_>) -> Result<ShapeDesc, SceneError> {
         },
         "csg" => ShapeDesc::Csg {
             op: t.required_with("op", |k, v| {
-                let name = src.string(k, v)?;
-                let op = match name.value.as_str() {
-                    "union" => CsgOp::Union,
-                    "intersection" => CsgOp::Intersection,
-                    "difference" => CsgOp::Difference,
-                    _ => {
-                        return Err(
-                            src.error_at(&name, "expected `union`, `intersection` or `difference`")
-                        )
-                    }
-                };
-                Ok(name.map(|_| op))
+                let ops = [
+                    ("union", CsgOp::Union),
+                    ("intersection", CsgOp::Intersection),
+                    ("difference", CsgOp::Difference),
+                ];
+                src.keyword(k, v, &ops, |_| {
+                    "expected `union`, `intersection` or `difference`".into()
+                })
             })?,
             operands: t.required_with("operands", |k, v| {
                 let at = src.field(k, &v, ());

@@ -133,6 +133,22 @@ impl<'a> Source<'a> {
         }
     }
 
+    /// A string naming one of `choices`, as its value; any other string is an error at it
+    /// with the message `unknown(name)`.
+    pub(super) fn keyword<T: Copy>(
+        &self,
+        key: &str,
+        v: Value,
+        choices: &[(&str, T)],
+        unknown: impl FnOnce(&str) -> String,
+    ) -> Result<Field<T>, SceneError> {
+        let name = self.string(key, v)?;
+        match choices.iter().find(|(n, _)| *n == name.value) {
+            Some(&(_, value)) => Ok(name.map(|_| value)),
+            None => Err(self.error_at(&name, unknown(&name.value))),
+        }
+    }
+
     pub(super) fn boolean(&self, key: &str, v: Value) -> Result<Field<bool>, SceneError> {
         match v.kind {
             Kind::Bool(b) => Ok(self.field(key, &v, b)),
