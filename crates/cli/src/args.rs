@@ -130,6 +130,25 @@ fn square_samples(text: &str) -> Result<u32, String> {
     Ok(n)
 }
 
+/// The picture's size and the camera it is taken from.
+#[derive(Debug, Default, Args)]
+pub struct FrameArgs {
+    /// Image width in pixels (of each panel, for `compare`), at most 16384 as in the scene
+    /// file (default: the scene's [render] width).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_384))]
+    pub width: Option<u32>,
+    /// Image height in pixels (of each panel, for `compare`), at most 16384 as in the scene
+    /// file (default: the scene's [render] height).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_384))]
+    pub height: Option<u32>,
+    /// Camera to render from, by name (default: the scene's first camera).
+    #[arg(long, value_name = "NAME")]
+    pub camera: Option<String>,
+    /// Changes to that camera from the command line.
+    #[command(flatten)]
+    pub view: ViewArgs,
+}
+
 /// The camera from the command line: each given value replaces the chosen camera's.
 #[derive(Debug, Default, Args)]
 pub struct ViewArgs {
@@ -180,20 +199,9 @@ pub struct RenderArgs {
     /// radiance. Default: <scene name>.png in the current directory.
     #[arg(short = 'o', long = "output", value_name = "PATH")]
     pub outputs: Vec<PathBuf>,
-    /// Image width in pixels, at most 16384 as in the scene file (default: the scene's
-    /// [render] width).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_384))]
-    pub width: Option<u32>,
-    /// Image height in pixels, at most 16384 as in the scene file (default: the scene's
-    /// [render] height).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_384))]
-    pub height: Option<u32>,
-    /// Camera to render from, by name (default: the scene's first camera).
-    #[arg(long, value_name = "NAME")]
-    pub camera: Option<String>,
-    /// Changes to that camera from the command line.
+    /// Image size and camera.
     #[command(flatten)]
-    pub view: ViewArgs,
+    pub frame: FrameArgs,
     /// Antialiasing samples per pixel, taken as an s×s grid: a square, 1, 4, 9, ... 64
     /// (others are refused). Default: 4; 64 with `--mode final`, which evaluates the light once
     /// per pixel and surface and uses the samples for the edges' coverage.
@@ -233,18 +241,9 @@ pub struct CompareArgs {
         default_value = "compare.png"
     )]
     pub output: PathBuf,
-    /// Width of each panel in pixels (default: the scene's [render] width).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_384))]
-    pub width: Option<u32>,
-    /// Height of each panel in pixels (default: the scene's [render] height).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_384))]
-    pub height: Option<u32>,
-    /// Camera to render from, by name (default: the scene's first camera).
-    #[arg(long, value_name = "NAME")]
-    pub camera: Option<String>,
-    /// Changes to that camera from the command line.
+    /// Size of each panel and camera.
     #[command(flatten)]
-    pub view: ViewArgs,
+    pub frame: FrameArgs,
     /// Antialiasing samples per pixel, taken as an s×s grid: a square, 1, 4, 9, ... 64
     /// (others are refused).
     #[arg(long, default_value_t = 4, value_parser = square_samples)]
@@ -271,9 +270,30 @@ pub struct SolveArgs {
     pub common: CommonArgs,
 }
 
-/// Options of every job that solves a scene.
+/// Options of every job that solves a scene, in groups (each its own help heading).
 #[derive(Debug, Args)]
 pub struct CommonArgs {
+    /// What a solve writes besides images.
+    #[command(flatten)]
+    pub outputs: OutputArgs,
+    /// How finely the scene is cut into elements and sources.
+    #[command(flatten)]
+    pub mesh: MeshArgs,
+    /// How form factors are computed (each option belongs to one or more methods).
+    #[command(flatten)]
+    pub form_factors: FormFactorArgs,
+    /// Which solver, and when it stops.
+    #[command(flatten)]
+    pub solver: SolverArgs,
+    /// The scene's default light, checkpoints, threads and messages.
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+/// What a solve writes besides images.
+#[derive(Debug, Args)]
+#[command(next_help_heading = "Outputs")]
+pub struct OutputArgs {
     /// Write statistics (counts, timings, energy, per-object radiosity) as JSON.
     #[arg(long, value_name = "PATH")]
     pub stats: Option<PathBuf>,
@@ -291,12 +311,16 @@ pub struct CommonArgs {
     #[arg(long, value_name = "auto|linear|STOPS", default_value = "auto",
           allow_negative_numbers = true, value_parser = parse_export_colours)]
     pub export_exposure: VertexColours,
-    /// Solver of the radiosity equation.
-    #[arg(long, value_enum, default_value_t = Solver::Auto)]
-    pub solver: Solver,
-    /// Form-factor method [default: raycast]
-    #[arg(long, value_enum, value_name = "METHOD")]
-    pub form_factors: Option<FormFactors>,
+    /// When a solve is interrupted, replace existing outputs with the partial results too (by
+    /// default an interrupted run writes only outputs that do not exist yet).
+    #[arg(long)]
+    pub write_partial: bool,
+}
+
+/// How finely the scene is cut into elements and sources.
+#[derive(Debug, Args)]
+#[command(next_help_heading = "Mesh")]
+pub struct MeshArgs {
     /// Subdivide into about N elements in total (gathering and progressive solvers; contact
     /// lines add some) [default: 4096]
     #[arg(long, value_name = "N", conflicts_with = "max_element_area",
@@ -312,9 +336,15 @@ pub struct CommonArgs {
     /// [default: 8192]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     pub sources: Option<u64>,
-    /// Cells along a full edge of a hemicube (hemicube form factors) [default: 128]
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(2..=4096))]
-    pub hemicube_resolution: Option<u32>,
+}
+
+/// How form factors are computed (each option belongs to one or more methods).
+#[derive(Debug, Args)]
+#[command(next_help_heading = "Form factors")]
+pub struct FormFactorArgs {
+    /// Form-factor method [default: raycast]
+    #[arg(long, value_enum, value_name = "METHOD")]
+    pub form_factors: Option<FormFactors>,
     /// Quadrature points per receiver element, as an N × N grid (ray-cast and analytic form
     /// factors: Lambert's formula at each point; hemicube: one hemicube at each point); twice
     /// as many per side on elements that another surface touches [default: 2]
@@ -323,14 +353,21 @@ pub struct CommonArgs {
     /// Shadow rays per element–source pair (ray-cast form factors) [default: 16]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub rays: Option<u32>,
-    /// Hierarchical solver: refine a link while it moves more than this fraction of the emitted
-    /// power (default 1e-4; smaller is finer and slower).
-    #[arg(long, value_parser = positive_f64)]
-    pub epsilon: Option<f64>,
-    /// Hierarchical solver: smallest element area refinement may create (scene units²;
-    /// default a millionth of the total area).
-    #[arg(long, value_name = "A", value_parser = positive_f64)]
-    pub min_element_area: Option<f64>,
+    /// Seed of the ray-cast form factors' jitter and of the hemicubes' rotations [default: 0]
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Cells along a full edge of a hemicube (hemicube form factors) [default: 128]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(2..=4096))]
+    pub hemicube_resolution: Option<u32>,
+}
+
+/// Which solver, and when it stops.
+#[derive(Debug, Args)]
+#[command(next_help_heading = "Solver")]
+pub struct SolverArgs {
+    /// Solver of the radiosity equation.
+    #[arg(long, value_enum, default_value_t = Solver::Auto)]
+    pub solver: Solver,
     /// Stop iterating when the residual falls below this (relative) [default: 1e-4]
     #[arg(long, value_parser = positive_f64)]
     pub tolerance: Option<f64>,
@@ -341,9 +378,20 @@ pub struct CommonArgs {
     /// powers of 1024; e.g. 512M, 2G). Default: 1 GiB for the matrix, 8 GiB for the image.
     #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
     pub max_memory: Option<u64>,
-    /// Seed of the random sampling (ray-cast form factors) [default: 0]
-    #[arg(long)]
-    pub seed: Option<u64>,
+    /// Hierarchical solver: refine a link while it moves more than this fraction of the emitted
+    /// power (default 1e-4; smaller is finer and slower).
+    #[arg(long, value_parser = positive_f64)]
+    pub epsilon: Option<f64>,
+    /// Hierarchical solver: smallest element area refinement may create (scene units²;
+    /// default a millionth of the total area).
+    #[arg(long, value_name = "A", value_parser = positive_f64)]
+    pub min_element_area: Option<f64>,
+}
+
+/// The scene's default light, checkpoints, threads and messages.
+#[derive(Debug, Args)]
+#[command(next_help_heading = "Run")]
+pub struct RunArgs {
     /// Leave a scene without emitters unlit (black) instead of lighting it by the default sky:
     /// a uniform white enclosure of radiance 1 W·m⁻²·sr⁻¹ around its bounds
     #[arg(long)]
@@ -365,10 +413,6 @@ pub struct CommonArgs {
     /// No progress bars, warnings or messages on stderr (errors are still printed).
     #[arg(short, long)]
     pub quiet: bool,
-    /// When a solve is interrupted, replace existing outputs with the partial results too (by
-    /// default an interrupted run writes only outputs that do not exist yet).
-    #[arg(long)]
-    pub write_partial: bool,
 }
 
 /// `radiosity bench`.
@@ -538,13 +582,16 @@ mod tests {
         let solve = cli.find_subcommand_mut("solve").expect("solve");
         let help = solve.render_long_help().to_string();
         let ff = radiosity::formfactor::Settings::default();
+        let radiosity::formfactor::Settings::RayCast(rays) = ff else {
+            panic!("the default form factors are ray-cast: {ff:?}");
+        };
         let solver = radiosity::solve::Settings::default();
         for (flag, default) in [
             ("--elements", radiosity::mesh::DEFAULT_ELEMENTS.to_string()),
-            ("--form-factors", ff.method.name().to_string()),
+            ("--form-factors", ff.method().name().to_string()),
             ("--sources", solver.max_sources.to_string()),
-            ("--quadrature", ff.quadrature.to_string()),
-            ("--rays", ff.rays.to_string()),
+            ("--quadrature", rays.quadrature.to_string()),
+            ("--rays", rays.rays.to_string()),
             ("--tolerance", format!("{:e}", solver.tolerance)),
             ("--max-iterations", solver.max_iterations.to_string()),
         ] {

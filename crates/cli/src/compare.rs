@@ -8,7 +8,7 @@ use anyhow::Result;
 use radiosity::io::atomic::Batch;
 use radiosity::io::image_file::write_image;
 use radiosity::render::raytrace;
-use radiosity::render::{compare, tonemap, Image, RasterSettings};
+use radiosity::render::{compare, tonemap, Image};
 use radiosity::Rgb;
 
 use crate::args::{CompareArgs, Mode};
@@ -19,16 +19,11 @@ use crate::picture;
 pub fn run(args: &CompareArgs) -> Result<()> {
     job::check_output(&args.output, "image", &job::IMAGE_EXTENSIONS)?;
     job::check_common(&args.common)?;
-    job::in_pool(args.common.threads, || {
+    job::in_pool(args.common.run.threads, || {
         let start = Instant::now();
         let common = &args.common;
         let (scene, load) = job::load(&args.scene, common)?;
-        let camera = job::pick_camera(&scene, args.camera.as_deref(), &args.view)?;
-        let raster = RasterSettings {
-            width: args.width.unwrap_or(scene.render.width),
-            height: args.height.unwrap_or(scene.render.height),
-            samples_per_pixel: args.samples,
-        };
+        let (camera, raster) = job::frame(&scene, &args.frame, args.samples)?;
         let solved = job::run_solve(scene, common)?;
         if solved.solution.interrupted {
             // Three renders, one of them possibly ray-traced: after a Ctrl-C the run ends now.
@@ -56,7 +51,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
                 &raster,
                 args.gather,
                 true,
-                common.quiet,
+                common.run.quiet,
             )?;
             panels.push((label, image));
             job::say(

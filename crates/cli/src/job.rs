@@ -25,7 +25,7 @@ use radiosity::solve::checkpoint::{Checkpoint, Checkpointing, Control};
 use radiosity::stats::Timings;
 use radiosity::Scene;
 
-use crate::args::{CommonArgs, Mode, RenderArgs, SolveArgs, Solver, ViewArgs};
+use crate::args::{CommonArgs, FrameArgs, Mode, RenderArgs, SolveArgs, Solver, ViewArgs};
 use crate::bars::Bars;
 use crate::interrupt::{stop_flag, Interrupted};
 use crate::picture;
@@ -47,11 +47,11 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if args.mode == Mode::Local {
         let common = &args.common;
         for (given, flag) in [
-            (common.stats.is_some(), "--stats"),
-            (common.plot.is_some(), "--plot"),
-            (!common.export.is_empty(), "--export"),
-            (common.checkpoint.is_some(), "--checkpoint"),
-            (common.resume.is_some(), "--resume"),
+            (common.outputs.stats.is_some(), "--stats"),
+            (common.outputs.plot.is_some(), "--plot"),
+            (!common.outputs.export.is_empty(), "--export"),
+            (common.run.checkpoint.is_some(), "--checkpoint"),
+            (common.run.resume.is_some(), "--resume"),
         ] {
             if given {
                 bail!("{flag}: --mode local does not solve the radiosity (leave out --mode local)");
@@ -62,13 +62,13 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         check_output(path, "image", &IMAGE_EXTENSIONS)?;
     }
     check_common(&args.common)?;
-    in_pool(args.common.threads, || render_job(args))
+    in_pool(args.common.run.threads, || render_job(args))
 }
 
 /// `radiosity solve`.
 pub fn solve(args: &SolveArgs) -> Result<()> {
     check_common(&args.common)?;
-    in_pool(args.common.threads, || {
+    in_pool(args.common.run.threads, || {
         let start = Instant::now();
         let (scene, load) = load(&args.scene, &args.common)?;
         let solved = run_solve(scene, &args.common)?;
@@ -109,15 +109,11 @@ fn render_job(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     let common = &args.common;
     let (scene, load) = load(&args.scene, common)?;
-    let camera = pick_camera(&scene, args.camera.as_deref(), &args.view)?;
-    let raster = RasterSettings {
-        width: args.width.unwrap_or(scene.render.width),
-        height: args.height.unwrap_or(scene.render.height),
-        samples_per_pixel: args.samples.unwrap_or(match args.mode {
-            Mode::Final => FINAL_SAMPLES,
-            _ => SAMPLES,
-        }),
-    };
+    let samples = args.samples.unwrap_or(match args.mode {
+        Mode::Final => FINAL_SAMPLES,
+        _ => SAMPLES,
+    });
+    let (camera, raster) = frame(&scene, &args.frame, samples)?;
     let pixels = u64::from(raster.width) * u64::from(raster.height);
     let budget = settings::memory_budget(common);
     if pixels * IMAGE_BYTES_PER_PIXEL > budget {
@@ -138,7 +134,7 @@ fn render_job(args: &RenderArgs) -> Result<()> {
     };
     if args.mode == Mode::Local {
         let image =
-            picture::render_local(&scene, &camera, &raster, !args.no_shadows, common.quiet)?;
+            picture::render_local(&scene, &camera, &raster, !args.no_shadows, common.run.quiet)?;
         let exposure = args
             .exposure
             .unwrap_or_else(|| tonemap::auto_exposure(&image));
@@ -169,7 +165,7 @@ fn render_job(args: &RenderArgs) -> Result<()> {
             &raster,
             args.gather,
             !args.no_shadows,
-            common.quiet,
+            common.run.quiet,
         )?;
         let exposure = args
             .exposure
@@ -201,7 +197,7 @@ fn render_job(args: &RenderArgs) -> Result<()> {
 pub(crate) fn load(arg: &str, common: &CommonArgs) -> Result<(Scene, f64)> {
     let start = Instant::now();
     let mut scene = Scene::resolve(arg)?;
-    if !common.no_default_light && scene.add_default_sky() {
+    if !common.run.no_default_light && scene.add_default_sky() {
         let note = format!(
             "no material emits light: the scene is lit by the default sky, a uniform enclosure of \
              radiance {} W·m⁻²·sr⁻¹ (object `{}`; --no-default-light turns it off)",
@@ -226,9 +222,25 @@ pub(crate) fn load(arg: &str, common: &CommonArgs) -> Result<(Scene, f64)> {
     Ok((scene, start.elapsed().as_secs_f64()))
 }
 
+/// The camera and the raster of `frame` on `scene`, with `samples` per pixel: the size given,
+/// or the scene's.
+pub(crate) fn frame(
+    scene: &Scene,
+    frame: &FrameArgs,
+    samples: u32,
+) -> Result<(Camera, RasterSettings)> {
+    let camera = pick_camera(scene, frame.camera.as_deref(), &frame.view)?;
+    let raster = RasterSettings {
+        width: frame.width.unwrap_or(scene.render.width),
+        height: frame.height.unwrap_or(scene.render.height),
+        samples_per_pixel: samples,
+    };
+    Ok((camera, raster))
+}
+
 /// The camera named `name`, or the scene's first, with the changes of `view` (`--eye`,
 /// `--target`, `--up`, `--fov`), refused if they leave no direction to look in.
-pub(crate) fn pick_camera(scene: &Scene, name: Option<&str>, view: &ViewArgs) -> Result<Camera> {
+fn pick_camera(scene: &Scene, name: Option<&str>, view: &ViewArgs) -> Result<Camera> {
     let mut camera = match name {
         None => scene
             .cameras
@@ -273,13 +285,16 @@ pub(crate) fn pick_camera(scene: &Scene, name: Option<&str>, view: &ViewArgs) ->
 /// Meshes, computes form factors and solves, with progress bars when stderr is a terminal.
 /// Ctrl-C stops the solve (see [`Interrupted`]); `--checkpoint` and `--resume` apply.
 pub(crate) fn run_solve(scene: Scene, common: &CommonArgs) -> Result<Solved> {
-    let settings = settings::pipeline_settings(common);
+    let settings = settings::pipeline_settings(common)?;
     let control = control(common)?;
-    let bars = Bars::new(!common.quiet && std::io::stderr().is_terminal());
+    let bars = Bars::new(!common.run.quiet && std::io::stderr().is_terminal());
     let solved = pipeline::solve_controlled(scene, &settings, &control, &bars);
     if let Ok(solved) = &solved {
-        let subdivision = common.elements.is_some() || common.max_element_area.is_some();
-        if subdivision && common.solver == Solver::Auto && solved.solution.hierarchy.is_some() {
+        let subdivision = common.mesh.elements.is_some() || common.mesh.max_element_area.is_some();
+        if subdivision
+            && common.solver.solver == Solver::Auto
+            && solved.solution.hierarchy.is_some()
+        {
             say(
                 common,
                 "note: the subdivision asked for needs a form-factor matrix beyond --max-memory; \
@@ -293,7 +308,7 @@ pub(crate) fn run_solve(scene: Scene, common: &CommonArgs) -> Result<Solved> {
         // only a further Ctrl-C stops that.
         stop_flag().store(false, Ordering::SeqCst);
     }
-    match (solved, &common.resume) {
+    match (solved, &common.run.resume) {
         (Err(pipeline::PipelineError::Interrupted), _) => {
             Err(Interrupted("interrupted while meshing: wrote nothing".into()).into())
         }
@@ -323,7 +338,7 @@ fn with_flags(e: pipeline::PipelineError) -> anyhow::Error {
 
 /// The solve's control: the Ctrl-C flag, `--checkpoint` and `--resume`.
 fn control(common: &CommonArgs) -> Result<Control> {
-    let resume = match &common.resume {
+    let resume = match &common.run.resume {
         Some(path) => {
             let file = std::fs::File::open(path)
                 .with_context(|| format!("{}: cannot resume", path.display()))?;
@@ -333,10 +348,10 @@ fn control(common: &CommonArgs) -> Result<Control> {
         }
         None => None,
     };
-    let checkpoint = common.checkpoint.clone().map(|path| {
-        let quiet = common.quiet;
+    let checkpoint = common.run.checkpoint.clone().map(|path| {
+        let quiet = common.run.quiet;
         Checkpointing {
-            every: Duration::from_secs_f64(common.checkpoint_every),
+            every: Duration::from_secs_f64(common.run.checkpoint_every),
             save: Arc::new(move |cp: &Checkpoint| {
                 let written = write_atomic(&path, |w| cp.write(w));
                 if let Err(e) = written {
@@ -414,11 +429,12 @@ pub(crate) fn finish(
         |(_, aspect)| aspect,
     );
     let options = export::Options {
-        colours: common.export_exposure,
+        colours: common.outputs.export_exposure,
         cameras: &cameras,
         aspect,
     };
     for path in common
+        .outputs
         .export
         .iter()
         .filter(|p| may_write(p, solved, common))
@@ -435,6 +451,7 @@ pub(crate) fn finish(
         ..Timings::default()
     });
     if let Some(path) = common
+        .outputs
         .plot
         .as_ref()
         .filter(|p| may_write(p, solved, common))
@@ -445,6 +462,7 @@ pub(crate) fn finish(
         })?;
     }
     if let Some(path) = common
+        .outputs
         .stats
         .as_ref()
         .filter(|p| may_write(p, solved, common))
@@ -499,31 +517,33 @@ fn commit(batch: Batch, common: &CommonArgs) -> Result<()> {
     Ok(())
 }
 
-/// Checks the flags that contradict each other and the `--stats`, `--plot`, `--export` and
-/// `--checkpoint` paths, before any work.
+/// Checks the flags that contradict each other (a form-factor option the method has no use
+/// for among them) and the `--stats`, `--plot`, `--export` and `--checkpoint` paths, before
+/// any work.
 pub(crate) fn check_common(common: &CommonArgs) -> Result<()> {
-    if common.solver == Solver::Hierarchical {
-        if common.elements.is_some() {
+    if common.solver.solver == Solver::Hierarchical {
+        if common.mesh.elements.is_some() {
             bail!("--elements does not apply to --solver hierarchical, which refines by --epsilon");
         }
-        if common.max_element_area.is_some() {
+        if common.mesh.max_element_area.is_some() {
             bail!(
                 "--max-element-area does not apply to --solver hierarchical (its smallest \
                  element is --min-element-area)"
             );
         }
     }
-    if let Some(path) = &common.stats {
+    settings::pipeline_settings(common)?;
+    if let Some(path) = &common.outputs.stats {
         check_directory(path)?;
     }
-    if let Some(path) = &common.plot {
+    if let Some(path) = &common.outputs.plot {
         check_output(path, "plot", &["svg"])?;
     }
     let formats: Vec<&str> = export::Format::ALL.iter().map(|&(_, e)| e).collect();
-    for path in &common.export {
+    for path in &common.outputs.export {
         check_output(path, "export", &formats)?;
     }
-    if let Some(path) = &common.checkpoint {
+    if let Some(path) = &common.run.checkpoint {
         check_directory(path)?;
     }
     Ok(())
@@ -598,7 +618,7 @@ fn extension(path: &Path) -> String {
 /// does not exist yet or `--write-partial` asks (partial results never silently replace a
 /// finished run's files), saying so when it is kept.
 pub(crate) fn may_write(path: &Path, solved: &Solved, common: &CommonArgs) -> bool {
-    if !solved.solution.interrupted || common.write_partial || !path.exists() {
+    if !solved.solution.interrupted || common.outputs.write_partial || !path.exists() {
         return true;
     }
     say(
@@ -612,7 +632,7 @@ pub(crate) fn may_write(path: &Path, solved: &Solved, common: &CommonArgs) -> bo
 }
 
 pub(crate) fn say(common: &CommonArgs, message: &str) {
-    if !common.quiet {
+    if !common.run.quiet {
         let _ = writeln!(std::io::stderr(), "{message}");
     }
 }

@@ -162,10 +162,7 @@ fn worst_object(
 ) -> anyhow::Result<Row> {
     let settings = Settings {
         subdivision: Subdivision::default(),
-        form_factors: formfactor::Settings {
-            method: ff,
-            ..formfactor::Settings::default()
-        },
+        form_factors: formfactor::Settings::of(ff),
         solve: solve::Settings::default(),
         method: match solver {
             SuiteSolver::Auto => None,

@@ -11,62 +11,106 @@ use crate::args::{CommonArgs, FormFactors, Solver};
 const DEFAULT_IMAGE_BUDGET: u64 = 8 << 30;
 
 /// The pipeline settings the options ask for; what they leave out keeps the engine's default.
-pub fn pipeline_settings(common: &CommonArgs) -> pipeline::Settings {
+///
+/// # Errors
+/// A form-factor option that the chosen method has no use for.
+pub fn pipeline_settings(common: &CommonArgs) -> anyhow::Result<pipeline::Settings> {
     let mut settings = pipeline::Settings::default();
-    if let Some(n) = common.elements {
+    if let Some(n) = common.mesh.elements {
         settings.subdivision = Subdivision::Elements(usize::try_from(n).unwrap_or(usize::MAX));
     }
-    if let Some(a) = common.max_element_area {
+    if let Some(a) = common.mesh.max_element_area {
         settings.subdivision = Subdivision::MaxArea(a);
     }
-    if let Some(method) = common.form_factors {
-        settings.form_factors.method = match method {
-            FormFactors::Analytic => formfactor::Method::Analytic,
-            FormFactors::Raycast => formfactor::Method::RayCast,
-            FormFactors::Hemicube => formfactor::Method::Hemicube,
-        };
-    }
-    if let Some(n) = common.sources {
+    settings.form_factors = form_factor_settings(common)?;
+    if let Some(n) = common.mesh.sources {
         settings.solve.max_sources = usize::try_from(n).unwrap_or(usize::MAX);
     }
-    if let Some(n) = common.hemicube_resolution {
-        settings.form_factors.hemicube_resolution = n;
-    }
-    if let Some(n) = common.quadrature {
-        settings.form_factors.quadrature = n;
-    }
-    if let Some(rays) = common.rays {
-        settings.form_factors.rays = rays;
-    }
-    if let Some(seed) = common.seed {
-        settings.form_factors.seed = seed;
-    }
-    settings.method = match common.solver {
+    settings.method = match common.solver.solver {
         Solver::Jacobi => Some(solve::Method::Jacobi),
         Solver::GaussSeidel => Some(solve::Method::GaussSeidel),
         Solver::Progressive => Some(solve::Method::Progressive),
         Solver::Hierarchical => Some(solve::Method::Hierarchical),
         Solver::Auto => None,
     };
-    if let Some(epsilon) = common.epsilon {
+    if let Some(epsilon) = common.solver.epsilon {
         settings.solve.epsilon = epsilon;
     }
-    if let Some(area) = common.min_element_area {
+    if let Some(area) = common.solver.min_element_area {
         settings.solve.min_element_area = Some(area);
     }
-    if let Some(tolerance) = common.tolerance {
+    if let Some(tolerance) = common.solver.tolerance {
         settings.solve.tolerance = tolerance;
     }
-    if let Some(n) = common.max_iterations {
+    if let Some(n) = common.solver.max_iterations {
         settings.solve.max_iterations = usize::try_from(n).unwrap_or(usize::MAX);
     }
-    if let Some(bytes) = common.max_memory {
+    if let Some(bytes) = common.solver.max_memory {
         settings.solve.max_matrix_bytes = bytes;
     }
-    settings
+    Ok(settings)
+}
+
+/// The form-factor method's settings: its defaults, with the options given. An option that
+/// the method has no use for is refused rather than ignored.
+fn form_factor_settings(common: &CommonArgs) -> anyhow::Result<formfactor::Settings> {
+    let method = match common.form_factors.form_factors {
+        Some(FormFactors::Analytic) => formfactor::Method::Analytic,
+        Some(FormFactors::Raycast) => formfactor::Method::RayCast,
+        Some(FormFactors::Hemicube) => formfactor::Method::Hemicube,
+        None => formfactor::Settings::default().method(),
+    };
+    let mut settings = formfactor::Settings::of(method);
+    let (quadrature, rays, seed, resolution) = match &mut settings {
+        formfactor::Settings::Analytic(s) => (Some(&mut s.quadrature), None, None, None),
+        formfactor::Settings::RayCast(s) => (
+            Some(&mut s.quadrature),
+            Some(&mut s.rays),
+            Some(&mut s.seed),
+            None,
+        ),
+        formfactor::Settings::Hemicube(s) => (
+            Some(&mut s.quadrature),
+            None,
+            Some(&mut s.seed),
+            Some(&mut s.resolution),
+        ),
+    };
+    set(
+        quadrature,
+        common.form_factors.quadrature,
+        "--quadrature",
+        method,
+    )?;
+    set(rays, common.form_factors.rays, "--rays", method)?;
+    set(seed, common.form_factors.seed, "--seed", method)?;
+    set(
+        resolution,
+        common.form_factors.hemicube_resolution,
+        "--hemicube-resolution",
+        method,
+    )?;
+    Ok(settings)
+}
+
+/// Writes `given` into `field`, or refuses `flag` when `method` has no such field.
+fn set<T>(
+    field: Option<&mut T>,
+    given: Option<T>,
+    flag: &str,
+    method: formfactor::Method,
+) -> anyhow::Result<()> {
+    match (field, given) {
+        (Some(field), Some(value)) => *field = value,
+        (None, Some(_)) => {
+            anyhow::bail!("{flag} has no use with `--form-factors {method}`")
+        }
+        (_, None) => {}
+    }
+    Ok(())
 }
 
 /// The most memory a rendered image may take: `--max-memory`, or 8 GiB.
 pub fn memory_budget(common: &CommonArgs) -> u64 {
-    common.max_memory.unwrap_or(DEFAULT_IMAGE_BUDGET)
+    common.solver.max_memory.unwrap_or(DEFAULT_IMAGE_BUDGET)
 }

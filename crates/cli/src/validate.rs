@@ -313,10 +313,7 @@ pub(crate) fn rgb(values: &[serde_json::Value]) -> Option<Rgb> {
 fn solved(scene: Scene, elements: usize, method: formfactor::Method) -> anyhow::Result<Stats> {
     let settings = Settings {
         subdivision: Subdivision::Elements(elements),
-        form_factors: formfactor::Settings {
-            method,
-            ..formfactor::Settings::default()
-        },
+        form_factors: formfactor::Settings::of(method),
         solve: solve::Settings {
             tolerance: 1e-9,
             ..solve::Settings::default()

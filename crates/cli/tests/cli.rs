@@ -324,6 +324,47 @@ fn bad_inputs_exit_2_with_one_line_and_no_output() {
         ]),
         &["--elements", "--solver hierarchical", "--epsilon"],
     );
+    // A form-factor option the method has no use for.
+    assert_fails(
+        "rays-with-hemicubes",
+        &with(&[
+            "render",
+            "room.toml",
+            "-o",
+            "x.png",
+            "--form-factors",
+            "hemicube",
+            "--rays",
+            "4",
+        ]),
+        &["--rays", "--form-factors hemicube"],
+    );
+    assert_fails(
+        "resolution-with-ray-casting",
+        &with(&[
+            "render",
+            "room.toml",
+            "-o",
+            "x.png",
+            "--hemicube-resolution",
+            "64",
+        ]),
+        &["--hemicube-resolution", "--form-factors raycast"],
+    );
+    assert_fails(
+        "seed-with-analytic",
+        &with(&[
+            "render",
+            "room.toml",
+            "-o",
+            "x.png",
+            "--form-factors",
+            "analytic",
+            "--seed",
+            "3",
+        ]),
+        &["--seed", "--form-factors analytic"],
+    );
     assert_fails(
         "eye-not-a-point",
         &with(&["render", "room.toml", "-o", "x.png", "--eye", "1,2"]),

@@ -13,7 +13,7 @@ use crate::progress::Progress;
 use crate::render::{self, local, raytrace, Image, Mode, RasterSettings, Watch};
 use crate::scene::Camera;
 use crate::solve::checkpoint::{hash_text, Control};
-use crate::solve::{self, hierarchical, plan, Solution, SolveError};
+use crate::solve::{self, plan, Solution, SolveError};
 use crate::stats::{Aggregate, Energy, SolverStats, Stats, Timings};
 use crate::{Rgb, Scene};
 
@@ -24,7 +24,7 @@ pub struct Settings {
     pub subdivision: Subdivision,
     /// How form factors are computed.
     pub form_factors: formfactor::Settings,
-    /// Solver, tolerance and resource limits (its `method` is not read: see `method`).
+    /// Tolerance and resource limits of the solver, and the hierarchical solver's options.
     pub solve: solve::Settings,
     /// The solver method, or `None` for the automatic choice ([`plan`]).
     pub method: Option<solve::Method>,
@@ -103,132 +103,75 @@ pub fn solve_controlled(
     let start = Instant::now();
     let (roots, elements) = Mesh::plan(&scene, settings.subdivision);
     let limit = settings.solve.max_matrix_bytes;
-    // Hierarchical radiosity refines from the root faces by its own oracle: the requested
-    // uniform subdivision does not apply to it.
-    let hierarchical = |scene| solve_hierarchical(scene, settings, control, progress, start);
-    let problem = |elements: f64, meshed: bool| plan::Problem {
-        requested: settings.method,
+    let problem = |requested, elements: f64, meshed: bool| plan::Problem {
+        requested,
         roots,
         elements,
         meshed,
         sources: settings.solve.max_sources,
         matrix_bytes: limit,
     };
-    // A subdivision beyond memory is refused, unless hierarchical radiosity was asked for
-    // (it does not subdivide uniformly).
-    if settings.method == Some(solve::Method::Hierarchical) {
-        return hierarchical(scene);
-    }
-    if elements * BYTES_PER_ELEMENT > limit as f64 {
+    // A subdivision beyond memory is refused, unless hierarchical radiosity was asked for:
+    // it refines from the root faces by its own oracle, and the requested uniform subdivision
+    // does not apply to it.
+    let asked = settings.method;
+    if asked != Some(solve::Method::Hierarchical) && elements * BYTES_PER_ELEMENT > limit as f64 {
         return Err(PipelineError::TooManyElements { elements, limit });
     }
-    if plan::plan(&problem(elements, false)) == plan::Choice::Hierarchical {
-        return hierarchical(scene);
-    }
+    let (subdivision, requested) = match plan::plan(&problem(asked, elements, false)) {
+        plan::Choice::Hierarchical => (
+            Subdivision::MaxArea(f64::INFINITY),
+            Some(solve::Method::Hierarchical),
+        ),
+        plan::Choice::Subdivided { .. } => (settings.subdivision, asked),
+    };
     progress.start("meshing", 3);
     let stop = || control.stopped();
-    let mesh = Mesh::build_unless(&scene, settings.subdivision, &stop)
-        .ok_or(PipelineError::Interrupted)?;
+    let mesh = Mesh::build_unless(&scene, subdivision, &stop).ok_or(PipelineError::Interrupted)?;
     progress.advance(1);
     let bvh = Bvh::build(&mesh.triangles);
     progress.advance(1);
-    let plan::Choice::Subdivided {
-        method,
-        sources,
-        reach,
-    } = plan::plan(&problem(mesh.element_count() as f64, true))
-    else {
-        unreachable!("a meshed problem is never sent to the hierarchical solver");
+    let counted = mesh.element_count() as f64;
+    let (method, sources) = match plan::plan(&problem(requested, counted, true)) {
+        plan::Choice::Hierarchical => (solve::Method::Hierarchical, mesh.elements.clone()),
+        plan::Choice::Subdivided {
+            method,
+            sources,
+            reach,
+        } => (method, mesh.sources(sources, reach)),
     };
-    let sources = mesh.sources(sources, reach);
     progress.advance(1);
     progress.finish();
     timings.mesh = start.elapsed().as_secs_f64();
 
     let geometry = Geometry::new(&mesh, &bvh, &sources);
     let form_factors = formfactor::build(&settings.form_factors);
-    let solve_settings = solve::Settings {
-        method,
-        ..settings.solve
+    // The settings that decide the answer besides the problem must match a checkpoint's: the
+    // form factors, or the hierarchical solver's own refinement settings.
+    let decisive = match method {
+        solve::Method::Hierarchical => {
+            format!(
+                "{:?}",
+                (settings.solve.epsilon, settings.solve.min_element_area)
+            )
+        }
+        _ => format!("{:?}", settings.form_factors),
     };
     let control = Control {
-        context: hash_text(&format!("{:?}", settings.form_factors)),
+        context: hash_text(&decisive),
         ..control.clone()
     };
     let solution = solve::solve_controlled(
         &geometry,
         form_factors.as_ref(),
-        &solve_settings,
+        method,
+        &settings.solve,
         &control,
         progress,
     )?;
     timings.form_factors = solution.form_factor_seconds;
     timings.solve = solution.solve_seconds;
-    let absorbed = absorbed_power(&mesh, &solution);
-
-    let lit = display::lit_mesh(&mesh, &solution.radiosity);
-    Ok(Solved {
-        scene,
-        mesh,
-        solution,
-        lit,
-        timings,
-        absorbed,
-    })
-}
-
-/// The hierarchical branch: the mesh starts at the root faces and the solver refines it.
-fn solve_hierarchical(
-    scene: Scene,
-    settings: &Settings,
-    control: &Control,
-    progress: &dyn Progress,
-    start: Instant,
-) -> Result<Solved, PipelineError> {
-    let mut timings = Timings::default();
-    progress.start("meshing", 2);
-    let stop = || control.stopped();
-    let mut mesh = Mesh::build_unless(&scene, Subdivision::MaxArea(f64::INFINITY), &stop)
-        .ok_or(PipelineError::Interrupted)?;
-    progress.advance(1);
-    let bvh = Bvh::build(&mesh.triangles);
-    progress.advance(1);
-    progress.finish();
-    timings.mesh = start.elapsed().as_secs_f64();
-    let solve_settings = solve::Settings {
-        method: solve::Method::Hierarchical,
-        ..settings.solve
-    };
-    // The refinement's own settings decide the answer: checkpoints must match them.
-    let control = Control {
-        context: hash_text(&format!(
-            "{:?}",
-            (solve_settings.epsilon, solve_settings.min_element_area)
-        )),
-        ..control.clone()
-    };
-    let run = hierarchical::run(&mut mesh, &bvh, &solve_settings, &control, progress)?;
-    let radiosity: Vec<Rgb> = mesh
-        .elements
-        .iter()
-        .map(|&n| run.node_radiosity[n as usize])
-        .collect();
-    timings.form_factors = run.refine_seconds;
-    timings.solve = run.solve_seconds;
-    let solution = Solution {
-        radiosity,
-        irradiance: run.irradiance,
-        method: solve::Method::Hierarchical,
-        iterations: run.iterations,
-        residual: run.residual,
-        links: run.stats.links,
-        ambient: Rgb::ZERO,
-        form_factor_seconds: run.refine_seconds,
-        solve_seconds: run.solve_seconds,
-        hierarchy: Some(run.stats),
-        history: run.history,
-        interrupted: run.interrupted,
-    };
+    let (mesh, solution) = solution.on_finest(mesh);
     let absorbed = absorbed_power(&mesh, &solution);
     let lit = display::lit_mesh(&mesh, &solution.radiosity);
     Ok(Solved {

@@ -15,17 +15,13 @@ use radiosity::Rgb;
 const ELEMENT_EXACT: [Method; 3] = [Method::Jacobi, Method::GaussSeidel, Method::Progressive];
 
 fn solve_with(g: &Geometry, method: Method) -> Solution {
-    let ff = formfactor::build(&formfactor::Settings {
-        method: FfMethod::Analytic,
-        ..formfactor::Settings::default()
-    });
+    let ff = formfactor::build(&formfactor::Settings::of(FfMethod::Analytic));
     let settings = Settings {
-        method,
         tolerance: 1e-10,
         max_iterations: 1_000_000,
         ..Settings::default()
     };
-    solve::solve(g, ff.as_ref(), &settings, &Silent).unwrap()
+    solve::solve(g, ff.as_ref(), method, &settings, &Silent).unwrap()
 }
 
 fn power(g: &Geometry, b: &[Rgb]) -> Rgb {

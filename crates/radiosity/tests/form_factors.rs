@@ -5,7 +5,7 @@ use glam::DVec3;
 use radiosity::formfactor::analytic::{
     parallel_rectangles, perpendicular_rectangles, point_to_polygon,
 };
-use radiosity::formfactor::{self, FormFactors, Method, Settings};
+use radiosity::formfactor::{self, analytic, raycast, FormFactors, Settings};
 use radiosity::mesh::Subdivision;
 use radiosity::testing::{self, Prepared};
 
@@ -14,21 +14,15 @@ mod common;
 use common::patch_to_patch;
 
 fn analytic(quadrature: u32) -> Box<dyn FormFactors> {
-    formfactor::build(&Settings {
-        method: Method::Analytic,
-        quadrature,
-        ..Settings::default()
-    })
+    formfactor::build(&Settings::Analytic(analytic::Settings { quadrature }))
 }
 
 fn raycast(quadrature: u32, rays: u32) -> Box<dyn FormFactors> {
-    formfactor::build(&Settings {
-        method: Method::RayCast,
+    formfactor::build(&Settings::RayCast(raycast::Settings {
         quadrature,
         rays,
         seed: 7,
-        ..Settings::default()
-    })
+    }))
 }
 
 #[test]

@@ -4,7 +4,7 @@ use glam::Vec3;
 use radiosity::formfactor::analytic::point_to_parallel_rectangle_corner;
 use radiosity::formfactor::hemicube::raster::{Layout, NOTHING};
 use radiosity::formfactor::hemicube::{Hemicube, DEFAULT_RESOLUTION};
-use radiosity::formfactor::{self, FormFactors, Geometry, Method};
+use radiosity::formfactor::{self, hemicube, raycast, FormFactors, Geometry};
 use radiosity::mesh::Subdivision;
 use radiosity::pipeline::{self, Settings};
 use radiosity::progress::Silent;
@@ -315,16 +315,10 @@ fn view_shows_the_sources_it_sums() {
 #[test]
 fn cornell_box_agrees_with_ray_casting_per_object() {
     let scene = || builtin::load("cornell").unwrap().unwrap();
-    let solve = |method: Method, quadrature: u32, rays: u32, hemicube_resolution: u32| {
+    let solve = |form_factors: formfactor::Settings| {
         let settings = Settings {
             subdivision: Subdivision::Elements(1024),
-            form_factors: formfactor::Settings {
-                method,
-                quadrature,
-                rays,
-                hemicube_resolution,
-                ..formfactor::Settings::default()
-            },
+            form_factors,
             ..Settings::default()
         };
         pipeline::solve(scene(), &settings, &Silent)
@@ -333,8 +327,16 @@ fn cornell_box_agrees_with_ray_casting_per_object() {
             .objects
     };
     let (hemicube, raycast) = (
-        solve(Method::Hemicube, 2, 16, 128),
-        solve(Method::RayCast, 2, 16, 128),
+        solve(formfactor::Settings::Hemicube(hemicube::Settings {
+            resolution: 128,
+            quadrature: 2,
+            seed: 0,
+        })),
+        solve(formfactor::Settings::RayCast(raycast::Settings {
+            quadrature: 2,
+            rays: 16,
+            seed: 0,
+        })),
     );
     for (h, r) in hemicube.iter().zip(&raycast) {
         assert_eq!(h.name, r.name);

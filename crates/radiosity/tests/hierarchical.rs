@@ -7,7 +7,7 @@ use radiosity::pipeline::{self, Settings, Solved};
 use radiosity::progress::Silent;
 use radiosity::scene::builtin;
 use radiosity::solve::hierarchical::cluster::Clusters;
-use radiosity::solve::hierarchical::link::{Estimate, View, CLUSTER};
+use radiosity::solve::hierarchical::link::{Estimate, Handle, Sight, View};
 use radiosity::solve::{self, Method};
 use radiosity::testing;
 use radiosity::{Rgb, Scene};
@@ -150,7 +150,7 @@ fn clusters_validate_and_links_join_facing_distinct_faces() {
     for &r in mesh.elements.iter().step_by(7) {
         for &s in mesh.elements.iter().step_by(5) {
             let (a, b) = (&mesh.nodes[r as usize], &mesh.nodes[s as usize]);
-            match view.estimate(r, s, false) {
+            match view.estimate(Handle::node(r), Handle::node(s), Sight::Unknown) {
                 Estimate::Link(l) => {
                     links += 1;
                     assert!(r != s && a.patch != b.patch);
@@ -175,12 +175,16 @@ fn clusters_validate_and_links_join_facing_distinct_faces() {
                 Estimate::Nothing => {}
             }
         }
-        assert!(matches!(view.estimate(r, r, false), Estimate::Nothing));
+        let r = Handle::node(r);
+        assert!(matches!(
+            view.estimate(r, r, Sight::Unknown),
+            Estimate::Nothing
+        ));
     }
     assert!(links > 100);
     // The root cluster with itself always needs opening.
     assert!(matches!(
-        view.estimate(CLUSTER, CLUSTER, false),
+        view.estimate(Handle::ROOT_CLUSTER, Handle::ROOT_CLUSTER, Sight::Unknown),
         Estimate::Open
     ));
 }

@@ -2,7 +2,7 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use radiosity::formfactor::{self, Geometry, Method as FfMethod};
+use radiosity::formfactor::{self, Geometry};
 use radiosity::mesh::Subdivision;
 use radiosity::progress::{Progress, Silent};
 use radiosity::scene::builtin;
@@ -15,24 +15,21 @@ fn cornell() -> Scene {
 }
 
 fn ff_settings() -> formfactor::Settings {
-    formfactor::Settings {
-        method: FfMethod::RayCast,
+    formfactor::Settings::RayCast(formfactor::raycast::Settings {
         quadrature: 2,
         rays: 4,
         seed: 1,
-        ..formfactor::Settings::default()
-    }
+    })
 }
 
 fn run(g: &Geometry, method: Method, tolerance: f64) -> Solution {
     let ff = formfactor::build(&ff_settings());
     let settings = Settings {
-        method,
         tolerance,
         max_iterations: 1_000_000,
         ..Settings::default()
     };
-    solve::solve(g, ff.as_ref(), &settings, &Silent).unwrap()
+    solve::solve(g, ff.as_ref(), method, &settings, &Silent).unwrap()
 }
 
 /// Largest relative difference between two solutions, relative to the largest value.
@@ -112,12 +109,11 @@ fn progressive_ambient_accounts_for_the_unshot_power() {
     let g = p.geometry();
     let ff = formfactor::build(&ff_settings());
     let settings = Settings {
-        method: Method::Progressive,
         tolerance: 0.0,
         max_iterations: 10,
         ..Settings::default()
     };
-    let s = solve::solve(&g, ff.as_ref(), &settings, &Silent).unwrap();
+    let s = solve::solve(&g, ff.as_ref(), Method::Progressive, &settings, &Silent).unwrap();
     assert_eq!(s.iterations, 10);
     assert!(s.residual > 0.1);
     let area = |e: usize| p.mesh.element(e).face.area();
@@ -149,11 +145,10 @@ fn matrix_too_large_is_an_error_before_allocating() {
     let ff = formfactor::build(&ff_settings());
     for method in [Method::Jacobi, Method::GaussSeidel] {
         let settings = Settings {
-            method,
             max_matrix_bytes: 1000,
             ..Settings::default()
         };
-        let err = solve::solve(&g, ff.as_ref(), &settings, &Silent).unwrap_err();
+        let err = solve::solve(&g, ff.as_ref(), method, &settings, &Silent).unwrap_err();
         assert_eq!(
             err,
             SolveError::MatrixTooLarge {
@@ -164,12 +159,11 @@ fn matrix_too_large_is_an_error_before_allocating() {
     }
     // Progressive refinement stores no matrix.
     let settings = Settings {
-        method: Method::Progressive,
         max_matrix_bytes: 1000,
         max_iterations: 5,
         ..Settings::default()
     };
-    assert!(solve::solve(&g, ff.as_ref(), &settings, &Silent).is_ok());
+    assert!(solve::solve(&g, ff.as_ref(), Method::Progressive, &settings, &Silent).is_ok());
     // A size that would overflow memory is refused by the same check.
     assert_eq!(Matrix::bytes(usize::MAX, usize::MAX), u64::MAX);
 }

@@ -28,6 +28,20 @@ use std::f64::consts::PI;
 
 use super::{column_with, pair_unoccluded, row_with, FormFactors, Geometry};
 
+/// Analytic form-factor options.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Settings {
+    /// Side n of the n × n grid of quadrature points on each receiver (at least 1).
+    pub quadrature: u32,
+}
+
+impl Default for Settings {
+    /// 2 × 2 quadrature points, as ray casting (see [`super::raycast::Settings::default`]).
+    fn default() -> Self {
+        Self { quadrature: 2 }
+    }
+}
+
 /// Unoccluded form factors: Lambert's formula at an n × n grid of points on each receiver, no
 /// visibility. Exact (up to the receiver quadrature) in convex enclosures, where nothing can
 /// block anything; shadows are missing everywhere else.

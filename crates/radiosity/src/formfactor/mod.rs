@@ -24,7 +24,8 @@
 //! Pairs on the same patch (coplanar: cosθ = 0) and pairs that face away from each other get 0
 //! without any work.
 //!
-//! The defaults were measured on the Cornell box (see [`Settings::default`]).
+//! Each method owns its settings; the defaults were measured on the Cornell box (see
+//! [`raycast::Settings::default`]).
 
 pub mod analytic;
 pub(crate) mod exposure;
@@ -170,46 +171,43 @@ method_names!(
     }
 );
 
-/// Form-factor options.
+/// A form-factor method with its own settings: adding a method is one file (its
+/// [`FormFactors`] and its `Settings`), one arm here and one in [`Method`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Settings {
-    /// Which method.
-    pub method: Method,
-    /// Side n of the n × n grid of quadrature points on each receiver (at least 1).
-    pub quadrature: u32,
-    /// Shadow rays per element–source pair (ray casting only; at least 1).
-    pub rays: u32,
-    /// Seed of the ray jitter and of the hemicubes' rotations.
-    pub seed: u64,
-    /// Cells along a full edge of a hemicube (hemicubes only; even, at least 2).
-    pub hemicube_resolution: u32,
+pub enum Settings {
+    /// Lambert's contour integral, no visibility.
+    Analytic(analytic::Settings),
+    /// Lambert's contour integral times ray-cast visibility.
+    RayCast(raycast::Settings),
+    /// Item-buffer hemicubes.
+    Hemicube(hemicube::Settings),
 }
 
 impl Default for Settings {
-    /// Ray casting, 2 × 2 quadrature points and 16 rays per pair. Measured on the built-in
-    /// Cornell box at 948 elements (all sources, Gauss-Seidel to 10⁻⁶, release build, 2 threads)
-    /// against 4 × 4 points and 256 rays:
-    ///
-    /// | points, rays | pairs/s | worst object mean | element RMS |
-    /// |---|---|---|---|
-    /// | 1, 1   | 4.7 M  | 1.2 %  | 0.69 % |
-    /// | 1, 4   | 2.1 M  | 1.2 %  | 0.28 % |
-    /// | 4, 4   | 0.91 M | 0.23 % | 0.26 % |
-    /// | 4, 16  | 0.57 M | 0.22 % | 0.10 % |
-    /// | 9, 16  | 0.54 M | 0.16 % | 0.097 % |
-    /// | 4, 64  | 0.21 M | 0.23 % | 0.075 % |
-    ///
-    /// The object means are set by the quadrature (one point is 1 % off, four are 0.2 %), the
-    /// element noise by the rays; at 16 rays the noise meets the quadrature's floor, and more
-    /// costs much more for little. (Analytic: 8.3 M pairs/s at one point, 3.4 M at four, but
-    /// 130 % off on the shadowed objects: no visibility.)
+    /// Ray casting with its defaults ([`raycast::Settings::default`], where the measurement is).
     fn default() -> Self {
-        Self {
-            method: Method::RayCast,
-            quadrature: 2,
-            rays: 16,
-            seed: 0,
-            hemicube_resolution: hemicube::DEFAULT_RESOLUTION,
+        Self::of(Method::RayCast)
+    }
+}
+
+impl Settings {
+    /// `method` with its default settings.
+    #[must_use]
+    pub fn of(method: Method) -> Self {
+        match method {
+            Method::Analytic => Self::Analytic(analytic::Settings::default()),
+            Method::RayCast => Self::RayCast(raycast::Settings::default()),
+            Method::Hemicube => Self::Hemicube(hemicube::Settings::default()),
+        }
+    }
+
+    /// The method these settings are for.
+    #[must_use]
+    pub fn method(&self) -> Method {
+        match self {
+            Self::Analytic(_) => Method::Analytic,
+            Self::RayCast(_) => Method::RayCast,
+            Self::Hemicube(_) => Method::Hemicube,
         }
     }
 }
@@ -217,18 +215,12 @@ impl Default for Settings {
 /// The form-factor computer that `settings` describe.
 #[must_use]
 pub fn build(settings: &Settings) -> Box<dyn FormFactors> {
-    match settings.method {
-        Method::Analytic => Box::new(analytic::Analytic::new(settings.quadrature)),
-        Method::RayCast => Box::new(raycast::RayCast::new(
-            settings.quadrature,
-            settings.rays,
-            settings.seed,
-        )),
-        Method::Hemicube => Box::new(hemicube::Hemicube::new(
-            settings.hemicube_resolution,
-            settings.quadrature,
-            settings.seed,
-        )),
+    match *settings {
+        Settings::Analytic(s) => Box::new(analytic::Analytic::new(s.quadrature)),
+        Settings::RayCast(s) => Box::new(raycast::RayCast::new(s.quadrature, s.rays, s.seed)),
+        Settings::Hemicube(s) => {
+            Box::new(hemicube::Hemicube::new(s.resolution, s.quadrature, s.seed))
+        }
     }
 }
 

@@ -36,6 +36,44 @@ use crate::mesh::Face;
 /// Rays of the adaptive pilot (one per quadrant).
 const PILOT: u32 = 4;
 
+/// Ray-cast form-factor options.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Settings {
+    /// Side n of the n × n grid of quadrature points on each receiver (at least 1).
+    pub quadrature: u32,
+    /// Shadow rays per element–source pair (at least 1).
+    pub rays: u32,
+    /// Seed of the ray jitter.
+    pub seed: u64,
+}
+
+impl Default for Settings {
+    /// 2 × 2 quadrature points and 16 rays per pair. Measured on the built-in Cornell box at
+    /// 948 elements (all sources, Gauss-Seidel to 10⁻⁶, release build, 2 threads) against
+    /// 4 × 4 points and 256 rays:
+    ///
+    /// | points, rays | pairs/s | worst object mean | element RMS |
+    /// |---|---|---|---|
+    /// | 1, 1   | 4.7 M  | 1.2 %  | 0.69 % |
+    /// | 1, 4   | 2.1 M  | 1.2 %  | 0.28 % |
+    /// | 4, 4   | 0.91 M | 0.23 % | 0.26 % |
+    /// | 4, 16  | 0.57 M | 0.22 % | 0.10 % |
+    /// | 9, 16  | 0.54 M | 0.16 % | 0.097 % |
+    /// | 4, 64  | 0.21 M | 0.23 % | 0.075 % |
+    ///
+    /// The object means are set by the quadrature (one point is 1 % off, four are 0.2 %), the
+    /// element noise by the rays; at 16 rays the noise meets the quadrature's floor, and more
+    /// costs much more for little. (Analytic: 8.3 M pairs/s at one point, 3.4 M at four, but
+    /// 130 % off on the shadowed objects: no visibility.)
+    fn default() -> Self {
+        Self {
+            quadrature: 2,
+            rays: 16,
+            seed: 0,
+        }
+    }
+}
+
 /// Ray-cast form factors (see the module documentation).
 #[derive(Clone, Copy, Debug)]
 pub struct RayCast {

@@ -58,6 +58,7 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use crate::formfactor::{method_names, FormFactors, Geometry};
+use crate::mesh::Mesh;
 use crate::progress::Progress;
 use crate::Rgb;
 
@@ -87,11 +88,9 @@ method_names!(
     }
 );
 
-/// Solver options.
+/// Solver options, for every [`Method`] (the method itself is an argument of [`solve`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
-    /// Which solver.
-    pub method: Method,
     /// Stop when the residual (see the module documentation) falls below this.
     pub tolerance: f64,
     /// Stop after this many sweeps (gathering) or shots (progressive) in any case.
@@ -123,7 +122,6 @@ impl Default for Settings {
     /// what the form factors' own error (0.2 %) leaves.
     fn default() -> Self {
         Self {
-            method: Method::GaussSeidel,
             tolerance: 1e-4,
             max_iterations: 100_000,
             max_matrix_bytes: 1 << 30,
@@ -146,7 +144,7 @@ pub struct Sample {
 }
 
 /// The result of a solve.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Solution {
     /// Radiosity B per element, W·m⁻² per channel (progressive: without the ambient term).
     pub radiosity: Vec<Rgb>,
@@ -176,6 +174,42 @@ pub struct Solution {
     /// Whether the solve was stopped (see [`checkpoint::Control::stop`]) before it converged:
     /// the radiosity is then the last iterate, or E when the form factors were not complete.
     pub interrupted: bool,
+    /// The mesh the solver refined, for a solver that refines it (hierarchical radiosity),
+    /// with the solution on its own elements; `radiosity` and `irradiance` above are then the
+    /// given elements' means of it. See [`Solution::on_finest`].
+    pub refined: Option<Box<Refined>>,
+}
+
+/// A mesh refined by the solver, and the solution on its elements.
+#[derive(Clone, Debug)]
+pub struct Refined {
+    /// The refined mesh: the given one's nodes keep their ids, with children below.
+    pub mesh: Mesh,
+    /// Radiosity B per element of `mesh`.
+    pub radiosity: Vec<Rgb>,
+    /// Irradiance H per element of `mesh`.
+    pub irradiance: Vec<Rgb>,
+}
+
+impl Solution {
+    /// The solution on the finest mesh there is: the refined mesh with its own elements'
+    /// radiosity and irradiance when the solver refined `given`, else `given` itself.
+    #[must_use]
+    pub fn on_finest(mut self, given: Mesh) -> (Mesh, Self) {
+        match self.refined.take() {
+            Some(refined) => {
+                let Refined {
+                    mesh,
+                    radiosity,
+                    irradiance,
+                } = *refined;
+                self.radiosity = radiosity;
+                self.irradiance = irradiance;
+                (mesh, self)
+            }
+            None => (given, self),
+        }
+    }
 }
 
 /// Why a solve failed.
@@ -217,7 +251,7 @@ fn mib(bytes: u64) -> u64 {
     bytes.div_ceil(1 << 20)
 }
 
-/// Solves the radiosity equation on `g` with form factors from `ff`.
+/// Solves the radiosity equation on `g` by `method`, with form factors from `ff`.
 ///
 /// A scene that emits nothing (or has no elements) is solved at once: B = 0, zero iterations,
 /// no form factors computed.
@@ -229,10 +263,12 @@ fn mib(bytes: u64) -> u64 {
 pub fn solve(
     g: &Geometry,
     ff: &dyn FormFactors,
+    method: Method,
     settings: &Settings,
     progress: &dyn Progress,
 ) -> Result<Solution, SolveError> {
-    solve_controlled(g, ff, settings, &checkpoint::Control::default(), progress)
+    let control = checkpoint::Control::default();
+    solve_controlled(g, ff, method, settings, &control, progress)
 }
 
 /// [`solve`] under `control`: stopping early, saving checkpoints, resuming from one (see
@@ -244,6 +280,7 @@ pub fn solve(
 pub fn solve_controlled(
     g: &Geometry,
     ff: &dyn FormFactors,
+    method: Method,
     settings: &Settings,
     control: &checkpoint::Control,
     progress: &dyn Progress,
@@ -252,7 +289,7 @@ pub fn solve_controlled(
     let mut solution = Solution {
         radiosity: system.emission.clone(),
         irradiance: vec![Rgb::ZERO; system.area.len()],
-        method: settings.method,
+        method,
         iterations: 0,
         residual: 0.0,
         links: 0,
@@ -262,6 +299,7 @@ pub fn solve_controlled(
         hierarchy: None,
         history: Vec::new(),
         interrupted: false,
+        refined: None,
     };
     if system.emitted <= 0.0 || !system.emitted.is_finite() {
         return Ok(solution);
@@ -269,12 +307,13 @@ pub fn solve_controlled(
     let job = solver::Job {
         g,
         ff,
+        method,
         settings,
         control,
         progress,
         system,
     };
-    settings.method.solver().solve(job, &mut solution)?;
+    method.solver().solve(job, &mut solution)?;
     Ok(solution)
 }
 

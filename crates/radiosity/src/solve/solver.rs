@@ -29,6 +29,8 @@ pub(super) struct Job<'a> {
     pub g: &'a Geometry<'a>,
     /// The form factors.
     pub ff: &'a dyn FormFactors,
+    /// The method solving it.
+    pub method: Method,
     /// Tolerance, iteration limit, budget and the method's own options.
     pub settings: &'a Settings,
     /// Stop flag, checkpoints, resuming.
@@ -43,7 +45,7 @@ impl<'a> Job<'a> {
     /// The checkpoint session of this job: the resumed checkpoint, if any, checked against
     /// the problem.
     pub fn session(&self) -> Result<Session<'a>, SolveError> {
-        let method = self.settings.method;
+        let method = self.method;
         let problem =
             checkpoint::Problem::new(self.g.mesh, self.g.sources, method, self.control.context);
         Session::new(self.control, problem, method)

@@ -73,6 +73,29 @@ use crate::mesh::Face;
 /// measurement).
 pub const DEFAULT_RESOLUTION: u32 = 128;
 
+/// Hemicube form-factor options.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Settings {
+    /// Cells along a full edge of a hemicube (even, at least 2).
+    pub resolution: u32,
+    /// Side n of the n × n grid of hemicubes on each receiver (at least 1).
+    pub quadrature: u32,
+    /// Seed of the hemicubes' rotations.
+    pub seed: u64,
+}
+
+impl Default for Settings {
+    /// [`DEFAULT_RESOLUTION`] cells, and 2 × 2 hemicubes per receiver as ray casting's 2 × 2
+    /// quadrature points.
+    fn default() -> Self {
+        Self {
+            resolution: DEFAULT_RESOLUTION,
+            quadrature: 2,
+            seed: 0,
+        }
+    }
+}
+
 /// Sources closer than this many mean diameters get the area-to-area kernel.
 pub const DEFAULT_NEAR: f32 = 2.0;
 

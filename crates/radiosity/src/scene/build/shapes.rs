@@ -252,7 +252,14 @@ pub(super) fn modeled_mesh(
             };
             surface::subdivision::subdivide(&mesh, scheme.value, levels.value)
         }
-        _ => PolyMesh::default(),
+        // Not modeling shapes: [`solid_mesh`] and the builder mesh these.
+        ShapeDesc::Polygon { .. }
+        | ShapeDesc::Box { .. }
+        | ShapeDesc::Sphere { .. }
+        | ShapeDesc::Mesh { .. }
+        | ShapeDesc::Implicit { .. }
+        | ShapeDesc::Csg { .. }
+        | ShapeDesc::Instance { .. } => PolyMesh::default(),
     })
 }
 
@@ -300,6 +307,10 @@ pub(super) fn solid_mesh(
             result.unwrap_or_default()
         }
         ShapeDesc::Mesh { .. } | ShapeDesc::Instance { .. } => PolyMesh::default(),
-        other => modeled_mesh(desc, o, other)?,
+        shape @ (ShapeDesc::BezierPatch { .. }
+        | ShapeDesc::NurbsSurface { .. }
+        | ShapeDesc::Revolve { .. }
+        | ShapeDesc::Subdivision { .. }
+        | ShapeDesc::Teapot { .. }) => modeled_mesh(desc, o, shape)?,
     })
 }

@@ -336,13 +336,11 @@ mod tests {
             method: Some(method),
             ..pipeline::Settings::default()
         };
-        s.form_factors = formfactor::Settings {
-            method: formfactor::Method::RayCast,
+        s.form_factors = formfactor::Settings::RayCast(formfactor::raycast::Settings {
             quadrature: 1,
             rays: 4,
             seed,
-            ..formfactor::Settings::default()
-        };
+        });
         s.solve.tolerance = 1e-6;
         s
     }

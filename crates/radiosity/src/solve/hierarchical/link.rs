@@ -40,10 +40,9 @@ use crate::formfactor::analytic::{point_to_polygon, solid_angle};
 use crate::formfactor::visibility::{jitter, quadrant, ShadowRays};
 use crate::formfactor::{facing, Receiver};
 use crate::hash::mix;
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, Node};
 
-/// Top bit of a handle: the rest is a cluster index (else a node index into [`Mesh::nodes`]).
-pub const CLUSTER: u32 = 1 << 31;
+pub use super::handle::{End, Handle};
 
 /// Side of the receiver quadrature grid of face-to-face links in the far field.
 const QUADRATURE: u32 = 2;
@@ -63,25 +62,38 @@ const PILOT: u32 = 4;
 /// Stratified shadow rays between two faces besides the quadrant pairs (a 4 × 4 grid).
 const RAYS: u32 = 16;
 
+/// What is known of the visibility between two faces before their shadow rays are cast.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sight {
+    /// Nothing: their rays decide.
+    Unknown,
+    /// They are parts of faces found wholly visible to each other: 4 rays that all arrive
+    /// settle it.
+    Clear,
+}
+
 /// A link: 16 bytes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Link {
     /// Receiving handle.
-    pub receiver: u32,
+    pub receiver: Handle,
     /// Source handle.
-    pub source: u32,
+    pub source: Handle,
     /// Form factor times visibility, F_rs·V_rs.
     pub factor: f32,
-    /// [`Link::spread`] in its magnitude and [`Link::clear`] in its sign bit, so that a link
-    /// stays 16 bytes.
+    /// [`Link::spread`] in its magnitude and [`Link::sight`] in its sign bit (negative when
+    /// clear), so that a link stays 16 bytes.
     bound: f32,
 }
 
 impl Link {
     /// A link; `spread` must be ≥ 0.
     #[must_use]
-    pub fn new(receiver: u32, source: u32, factor: f32, spread: f32, clear: bool) -> Self {
-        let bound = if clear { -spread.abs() } else { spread.abs() };
+    pub fn new(receiver: Handle, source: Handle, factor: f32, spread: f32, sight: Sight) -> Self {
+        let bound = match sight {
+            Sight::Clear => -spread.abs(),
+            Sight::Unknown => spread.abs(),
+        };
         Self {
             receiver,
             source,
@@ -103,8 +115,8 @@ impl Link {
     #[must_use]
     pub fn to_bits(&self) -> [u32; 4] {
         [
-            self.receiver,
-            self.source,
+            self.receiver.to_bits(),
+            self.source.to_bits(),
             self.factor.to_bits(),
             self.bound.to_bits(),
         ]
@@ -114,8 +126,8 @@ impl Link {
     #[must_use]
     pub fn from_bits(bits: [u32; 4]) -> Self {
         Self {
-            receiver: bits[0],
-            source: bits[1],
+            receiver: Handle::from_bits(bits[0]),
+            source: Handle::from_bits(bits[1]),
             factor: f32::from_bits(bits[2]),
             bound: f32::from_bits(bits[3]),
         }
@@ -126,8 +138,12 @@ impl Link {
     /// once their 4 quadrant rays confirm it, without the other 16 (after Hanrahan, Salzman
     /// & Aupperle 1991, §5, who let children inherit a parent's full visibility outright).
     #[must_use]
-    pub fn clear(&self) -> bool {
-        self.bound.is_sign_negative()
+    pub fn sight(&self) -> Sight {
+        if self.bound.is_sign_negative() {
+            Sight::Clear
+        } else {
+            Sight::Unknown
+        }
     }
 }
 
@@ -189,54 +205,67 @@ impl<'a> View<'a> {
 
     /// Surface area of a handle.
     #[must_use]
-    pub fn area(&self, h: u32) -> f64 {
-        if h & CLUSTER != 0 {
-            self.clusters.nodes[(h & !CLUSTER) as usize].area
-        } else {
-            self.mesh.nodes[h as usize].face.area()
+    pub fn area(&self, h: Handle) -> f64 {
+        match h.end() {
+            End::Cluster(c) => self.clusters.nodes[c].area,
+            End::Node(n) => self.mesh.nodes[n].face.area(),
         }
+    }
+
+    /// The quadtree node of a handle, `None` for a cluster.
+    fn node(&self, h: Handle) -> Option<&Node> {
+        h.as_node().map(|n| &self.mesh.nodes[n])
     }
 
     /// Bounding sphere (centre, radius) of a handle.
     #[must_use]
-    pub fn sphere(&self, h: u32) -> (Vec3, f32) {
-        if h & CLUSTER != 0 {
-            let c = &self.clusters.nodes[(h & !CLUSTER) as usize];
-            (c.center, c.radius)
-        } else {
-            let corners = self.mesh.nodes[h as usize].face.corners();
-            let centre = corners.iter().copied().sum::<Vec3>() / corners.len() as f32;
-            let radius = corners
-                .iter()
-                .map(|c| c.distance(centre))
-                .fold(0.0, f32::max);
-            (centre, radius)
+    pub fn sphere(&self, h: Handle) -> (Vec3, f32) {
+        match h.end() {
+            End::Cluster(c) => {
+                let c = &self.clusters.nodes[c];
+                (c.center, c.radius)
+            }
+            End::Node(n) => {
+                let corners = self.mesh.nodes[n].face.corners();
+                let centre = corners.iter().copied().sum::<Vec3>() / corners.len() as f32;
+                let radius = corners
+                    .iter()
+                    .map(|c| c.distance(centre))
+                    .fold(0.0, f32::max);
+                (centre, radius)
+            }
         }
     }
 
     /// Appends the children of a handle to `out`: two clusters, the faces of a leaf cluster,
     /// the four children of a split face, or nothing for an element.
-    pub fn children(&self, h: u32, out: &mut Vec<u32>) {
-        if h & CLUSTER != 0 {
-            let c = &self.clusters.nodes[(h & !CLUSTER) as usize];
-            match c.children {
-                Some([a, b]) => out.extend([a | CLUSTER, b | CLUSTER]),
-                None => out.extend_from_slice(
-                    &self.clusters.faces[c.faces.start as usize..c.faces.end as usize],
-                ),
+    pub fn children(&self, h: Handle, out: &mut Vec<Handle>) {
+        match h.end() {
+            End::Cluster(c) => {
+                let c = &self.clusters.nodes[c];
+                match c.children {
+                    Some([a, b]) => out.extend([Handle::cluster(a), Handle::cluster(b)]),
+                    None => out.extend(
+                        self.clusters.faces[c.faces.start as usize..c.faces.end as usize]
+                            .iter()
+                            .map(|&f| Handle::node(f)),
+                    ),
+                }
             }
-        } else if let Some(c) = self.mesh.nodes[h as usize].children {
-            out.extend(c..c + 4);
+            End::Node(n) => {
+                if let Some(c) = self.mesh.nodes[n].children {
+                    out.extend((c..c + 4).map(Handle::node));
+                }
+            }
         }
     }
 
     /// The form factor and visibility of receiver `r` from source `s` (see the module
-    /// documentation). `clear` says the two are parts of faces found wholly visible to each
-    /// other, so 4 shadow rays that all arrive settle their visibility at 1.
+    /// documentation). `sight` is what is known of their visibility (see [`Sight`]).
     #[must_use]
-    pub fn estimate(&self, r: u32, s: u32, clear: bool) -> Estimate {
-        if r & CLUSTER == 0 && s & CLUSTER == 0 {
-            return self.face_to_face(r, s, clear);
+    pub fn estimate(&self, r: Handle, s: Handle, sight: Sight) -> Estimate {
+        if !r.is_cluster() && !s.is_cluster() {
+            return self.face_to_face(r, s, sight);
         }
         // Overlapping spheres (or NaN geometry): the kernel cannot be trusted.
         let Some(Separation {
@@ -255,12 +284,12 @@ impl<'a> View<'a> {
         // A face whose plane cuts the other side's sphere sees it partly from behind: the
         // kernel between centres says little there (a wall next to the cluster of its
         // neighbours, say), so the cluster is opened.
-        let cuts = |h: u32, other: Vec3, radius: f32| {
-            h & CLUSTER == 0 && {
-                let node = &self.mesh.nodes[h as usize];
+        let cuts = |h: Handle, other: Vec3, radius: f32| {
+            h.as_node().is_some_and(|n| {
+                let node = &self.mesh.nodes[n];
                 let n = self.mesh.patches[node.patch as usize].normal;
                 n.dot(other - node.face.corners()[0]).abs() <= radius
-            }
+            })
         };
         if cuts(r, cs, rs) || cuts(s, cr, rr) {
             return Estimate::Open;
@@ -271,12 +300,12 @@ impl<'a> View<'a> {
         // Between a cluster and a face, the face's solid angle from the cluster's centre
         // replaces A·cosθ/d² (exact over the face, where the point kernel is off by the
         // face's size over the distance squared: 8 % for a 1 m light node 3.6 m away).
-        let face = |h: u32| self.mesh.nodes[h as usize].face.corners_f64();
-        let f = if s & CLUSTER == 0 {
+        let face = |n: usize| self.mesh.nodes[n].face.corners_f64();
+        let f = if let Some(s) = s.as_node() {
             let (polygon, n) = face(s);
             c_r * solid_angle(cr.as_dvec3(), &polygon[..n]) / std::f64::consts::PI
-        } else if r & CLUSTER == 0 {
-            let (polygon, n) = face(r);
+        } else if let Some(r_node) = r.as_node() {
+            let (polygon, n) = face(r_node);
             c_s * self.area(s) * solid_angle(cs.as_dvec3(), &polygon[..n])
                 / (std::f64::consts::PI * self.area(r))
         } else {
@@ -294,19 +323,19 @@ impl<'a> View<'a> {
             // kept with no light and the unoccluded bound as its spread, so the oracle looks
             // closer while what it could carry matters, and keeps it (without light) once it
             // does not.
-            return Estimate::Link(Link::new(r, s, 0.0, most as f32, false));
+            return Estimate::Link(Link::new(r, s, 0.0, most as f32, Sight::Unknown));
         }
         let factor = (f * v) as f32;
         // The cluster model's own error (self-shadowing, uniform push) is not bounded by the
         // kernel's range: the factor itself is the least the link may be off by.
         let spread = (most - least).max(f).max(if v < 1.0 { most } else { 0.0 }) as f32;
-        Estimate::Link(Link::new(r, s, factor, spread, false))
+        Estimate::Link(Link::new(r, s, factor, spread, Sight::Unknown))
     }
 
     /// An upper bound on the unoccluded factor F_rs: A_s·max c_r·max c_s / (π·(d − ρ_r − ρ_s)²)
     /// from the two bounding spheres, and never more than min(1, A_s/A_r) (reciprocity: the
     /// most it can be when the spheres overlap).
-    fn bound(&self, r: u32, s: u32) -> f64 {
+    fn bound(&self, r: Handle, s: Handle) -> f64 {
         let most = (self.area(s) / self.area(r)).min(1.0);
         let Some(sep) = self.separation(r, s) else {
             return most;
@@ -318,7 +347,7 @@ impl<'a> View<'a> {
 
     /// How two handles' bounding spheres lie to each other, or `None` when they overlap (or
     /// the geometry is NaN).
-    fn separation(&self, r: u32, s: u32) -> Option<Separation> {
+    fn separation(&self, r: Handle, s: Handle) -> Option<Separation> {
         let ((cr, rr), (cs, rs)) = (self.sphere(r), self.sphere(s));
         let distance = (cs - cr).length();
         if distance.is_nan() || distance <= rr + rs {
@@ -336,37 +365,43 @@ impl<'a> View<'a> {
     }
 
     /// The point kernel A_s·c_r·c_s / (π d²) at the largest cosines and the nearest distance.
-    fn largest_kernel(&self, s: u32, hi_r: f64, hi_s: f64, near: f64) -> f64 {
+    fn largest_kernel(&self, s: Handle, hi_r: f64, hi_s: f64, near: f64) -> f64 {
         self.area(s) / std::f64::consts::PI * hi_r * hi_s / (near * near)
     }
 
     /// The cosine factor of handle `h` toward the unit direction `w`, with its least and
     /// largest value over directions within the angle `alpha` of `w`: c = max(0, n·ω) for a
     /// face, c = P(ω)/A for a cluster ([`Clusters::projected_area`]).
-    fn cosines(&self, h: u32, w: DVec3, alpha: f64) -> (f64, f64, f64) {
-        if h & CLUSTER != 0 {
-            let c = (h & !CLUSTER) as usize;
-            let cluster = &self.clusters.nodes[c];
-            if cluster.area <= 0.0 {
-                return (0.0, 0.0, 0.0);
+    fn cosines(&self, h: Handle, w: DVec3, alpha: f64) -> (f64, f64, f64) {
+        match h.end() {
+            End::Cluster(c) => {
+                let cluster = &self.clusters.nodes[c];
+                if cluster.area <= 0.0 {
+                    return (0.0, 0.0, 0.0);
+                }
+                // P(ω) = ½ V·ω + ½ Σ A_f |n_f·ω| moves by at most (|V| + A)·α/2 when ω turns
+                // by α.
+                let turn = 0.5 * (cluster.vector_area.length() + cluster.area) * alpha;
+                let p = self.clusters.projected_area(c, w);
+                let share = |x: f64| (x / cluster.area).clamp(0.0, 1.0);
+                (share(p - turn), share(p), share(p + turn))
             }
-            // P(ω) = ½ V·ω + ½ Σ A_f |n_f·ω| moves by at most (|V| + A)·α/2 when ω turns by α.
-            let turn = 0.5 * (cluster.vector_area.length() + cluster.area) * alpha;
-            let p = self.clusters.projected_area(c, w);
-            let share = |x: f64| (x / cluster.area).clamp(0.0, 1.0);
-            return (share(p - turn), share(p), share(p + turn));
+            End::Node(n) => {
+                let node = &self.mesh.nodes[n];
+                let n = self.mesh.patches[node.patch as usize].normal.as_dvec3();
+                let theta = n.dot(w).clamp(-1.0, 1.0).acos();
+                let cos = |t: f64| t.clamp(0.0, std::f64::consts::PI).cos().max(0.0);
+                (cos(theta + alpha), cos(theta), cos(theta - alpha))
+            }
         }
-        let node = &self.mesh.nodes[h as usize];
-        let n = self.mesh.patches[node.patch as usize].normal.as_dvec3();
-        let theta = n.dot(w).clamp(-1.0, 1.0).acos();
-        let cos = |t: f64| t.clamp(0.0, std::f64::consts::PI).cos().max(0.0);
-        (cos(theta + alpha), cos(theta), cos(theta - alpha))
     }
 
-    /// Lambert's unoccluded factor times the ray-cast visibility (4 rays suffice when `clear`
-    /// and they all arrive), for two faces.
-    fn face_to_face(&self, r: u32, s: u32, clear: bool) -> Estimate {
-        let (nr, ns) = (&self.mesh.nodes[r as usize], &self.mesh.nodes[s as usize]);
+    /// Lambert's unoccluded factor times the ray-cast visibility (4 rays suffice when the
+    /// `sight` is clear and they all arrive), for two faces.
+    fn face_to_face(&self, r: Handle, s: Handle, sight: Sight) -> Estimate {
+        let (Some(nr), Some(ns)) = (self.node(r), self.node(s)) else {
+            return Estimate::Open;
+        };
         if nr.patch == ns.patch {
             return Estimate::Nothing;
         }
@@ -396,9 +431,10 @@ impl<'a> View<'a> {
             // The quadrature points see nothing of the source, yet parts of the two faces
             // face each other (a large floor node under a small tilted face, say): a link
             // without light whose spread is what it could carry, so the oracle looks closer.
-            return Estimate::Link(Link::new(r, s, 0.0, self.bound(r, s) as f32, false));
+            let bound = self.bound(r, s) as f32;
+            return Estimate::Link(Link::new(r, s, 0.0, bound, Sight::Unknown));
         }
-        let v = self.face_visibility(r, s, clear);
+        let v = self.face_visibility(r, s, sight);
         // Visibility known only from shadow rays: the unoccluded factor bounds what the link
         // may be wrong by, so the oracle refines it as long as that is too much to risk.
         let factor = f.min(1.0) * v;
@@ -412,7 +448,12 @@ impl<'a> View<'a> {
         } else {
             spread
         };
-        Estimate::Link(Link::new(r, s, factor as f32, spread as f32, v >= 1.0))
+        let sight = if v >= 1.0 {
+            Sight::Clear
+        } else {
+            Sight::Unknown
+        };
+        Estimate::Link(Link::new(r, s, factor as f32, spread as f32, sight))
     }
 
     /// Whether the segment between two lifted points is free.
@@ -424,17 +465,20 @@ impl<'a> View<'a> {
 
     /// Kernel-weighted fraction of the shadow rays between two faces that arrive, as in
     /// [`crate::formfactor::raycast`]: one ray per quadrant pair and 16 more stratified over both
-    /// faces, each weighted by cosθ_r cosθ_s / r² at its ends. All 20 unless `inherited` (the
-    /// pair refines one whose 20 rays all arrived) and the 4 quadrant rays arrive too: then 1.
+    /// faces, each weighted by cosθ_r cosθ_s / r² at its ends. All 20 unless the `sight` is
+    /// clear (the pair refines one whose 20 rays all arrived) and the 4 quadrant rays arrive
+    /// too: then 1.
     /// Letting a unanimous 4-ray pilot decide for a fresh pair (as the matrix solvers do per
     /// element pair) biased the Cornell box 3–8 % low here, where one link stands for a whole
     /// subtree of pairs; trusting the parent's 20 rays alone, without the pilot, biased it
     /// 1 % high at ε = 10⁻⁵ (occluders the parent's rays missed).
-    fn face_visibility(&self, r: u32, s: u32, inherited: bool) -> f64 {
-        let (nr, ns) = (&self.mesh.nodes[r as usize], &self.mesh.nodes[s as usize]);
+    fn face_visibility(&self, r: Handle, s: Handle, sight: Sight) -> f64 {
+        let (Some(nr), Some(ns)) = (self.node(r), self.node(s)) else {
+            return 0.0;
+        };
         let normal = |p: u32| self.mesh.patches[p as usize].normal;
         let (n_r, n_s) = (normal(nr.patch), normal(ns.patch));
-        let pair = mix(mix(u64::from(r)) ^ u64::from(s));
+        let pair = mix(mix(u64::from(r.to_bits())) ^ u64::from(s.to_bits()));
         let mut rays = ShadowRays::new(self.bvh, (&nr.face, n_r), (&ns.face, n_s), self.lift);
         let mut cast = |from, to| rays.cast(from, to);
         let mut arrived = 0;
@@ -451,7 +495,7 @@ impl<'a> View<'a> {
             );
             arrived += u32::from(cast(from, to));
         }
-        if inherited && arrived == PILOT {
+        if sight == Sight::Clear && arrived == PILOT {
             return 1.0;
         }
         let offset = (pair % u64::from(RAYS)) as u32;
@@ -471,8 +515,8 @@ impl<'a> View<'a> {
     /// Fraction of [`PILOT`] rays between points of front-facing member faces that arrive;
     /// 0 when no member face on a side is found facing the other side's centre (as for two
     /// parts of one convex object, whose centres lie behind all of each other's faces).
-    fn cluster_visibility(&self, r: u32, s: u32) -> f64 {
-        let pair = mix(mix(u64::from(r) ^ 0x5EED) ^ u64::from(s));
+    fn cluster_visibility(&self, r: Handle, s: Handle) -> f64 {
+        let pair = mix(mix(u64::from(r.to_bits()) ^ 0x5EED) ^ u64::from(s.to_bits()));
         let (cr, cs) = (self.sphere(r).0, self.sphere(s).0);
         let mut cast = 0u32;
         let mut visible = 0u32;
@@ -494,7 +538,7 @@ impl<'a> View<'a> {
 
     /// A point (with its normal) on handle `h` whose face looks toward `toward`: on the face
     /// itself, or on one of a few member faces of a cluster drawn by `bits`.
-    fn sample(&self, h: u32, toward: Vec3, bits: u64) -> Option<(Vec3, Vec3)> {
+    fn sample(&self, h: Handle, toward: Vec3, bits: u64) -> Option<(Vec3, Vec3)> {
         let (u, v) = (jitter(bits, 0), jitter(bits, 1));
         let on = |node: u32| {
             let node = &self.mesh.nodes[node as usize];
@@ -502,10 +546,10 @@ impl<'a> View<'a> {
             let p = node.face.point(u, v);
             (n.dot(toward - p) > 0.0).then_some((p, n))
         };
-        if h & CLUSTER == 0 {
-            return on(h);
-        }
-        let c = &self.clusters.nodes[(h & !CLUSTER) as usize];
+        let c = match h.end() {
+            End::Node(n) => return on(n as u32),
+            End::Cluster(c) => &self.clusters.nodes[c],
+        };
         let faces = &self.clusters.faces[c.faces.start as usize..c.faces.end as usize];
         (0..8u64).find_map(|t| {
             let pick = mix(bits ^ (t << 48)) % faces.len() as u64;

@@ -38,6 +38,7 @@
 //! projected area when it has more than [`cluster::TABULATED`] faces.
 
 pub mod cluster;
+pub mod handle;
 pub mod link;
 pub mod projected;
 pub mod push_pull;
@@ -50,14 +51,14 @@ pub use snapshot::Snapshot;
 
 use super::checkpoint::{Control, Iterate, Problem, Session};
 use super::solver::{Job, Solver};
-use super::{Method, Sample, Solution, SolveError};
+use super::{Method, Refined, Sample, Solution, SolveError};
 use crate::accel::Bvh;
 use crate::mesh::{Mesh, Node};
 use crate::progress::Progress;
 use crate::stats::HierarchyStats;
 use crate::Rgb;
 use cluster::{Cluster, Clusters};
-use link::{Link, View};
+use link::{Handle, Link, View};
 use push_pull::State;
 use refine::Oracle;
 
@@ -112,8 +113,8 @@ pub struct Outcome {
 
 /// Hierarchical radiosity as a [`Solver`] of a given mesh: it refines a copy (node ids stay,
 /// so each given element reads its node's mean, and its irradiance is the area-weighted mean
-/// of the refined elements below it). The pipeline, which displays the refined mesh itself,
-/// calls [`run`] on it.
+/// of the refined elements below it), and hands the refined mesh back with its own solution
+/// ([`Solution::refined`]), which the pipeline displays.
 pub(super) struct Hierarchical;
 
 impl Solver for Hierarchical {
@@ -152,6 +153,16 @@ impl Solver for Hierarchical {
         solution.form_factor_seconds = run.refine_seconds;
         solution.solve_seconds = run.solve_seconds;
         solution.hierarchy = Some(run.stats);
+        let radiosity = mesh
+            .elements
+            .iter()
+            .map(|&n| run.node_radiosity[n as usize])
+            .collect();
+        solution.refined = Some(Box::new(Refined {
+            mesh,
+            radiosity,
+            irradiance: run.irradiance,
+        }));
         Ok(())
     }
 }
@@ -412,7 +423,7 @@ fn spread(mesh: &Mesh, b: &[f64]) -> Vec<f64> {
 /// brightest reflected radiosity B − E of any element (largest channel), sorted. Emission is
 /// left out of the scale: a light source is far brighter than anything it lights, and would
 /// hide every shadow boundary.
-fn gradient_receivers(mesh: &Mesh, state: &State) -> Vec<u32> {
+fn gradient_receivers(mesh: &Mesh, state: &State) -> Vec<Handle> {
     let brightest = mesh
         .elements
         .iter()
@@ -433,7 +444,7 @@ fn gradient_receivers(mesh: &Mesh, state: &State) -> Vec<u32> {
             let steep =
                 (c..c + 4).any(|j| (state.node_b[j as usize] - b).abs().max_element() > limit);
             if steep {
-                out.push(k);
+                out.push(Handle::node(k));
             }
         }
     }

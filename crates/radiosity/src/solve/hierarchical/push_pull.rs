@@ -41,7 +41,7 @@ use rayon::prelude::*;
 use glam::DVec3;
 
 use super::cluster::{axis_weights, Clusters};
-use super::link::{Link, CLUSTER};
+use super::link::{End, Handle, Link};
 use crate::mesh::Mesh;
 use crate::Rgb;
 
@@ -189,11 +189,10 @@ impl State {
                 start = i;
             }
         }
-        let center = |h: u32| -> DVec3 {
-            if h & CLUSTER != 0 {
-                clusters.nodes[(h & !CLUSTER) as usize].center.as_dvec3()
-            } else {
-                mesh.nodes[h as usize].face.centroid().as_dvec3()
+        let center = |h: Handle| -> DVec3 {
+            match h.end() {
+                End::Cluster(c) => clusters.nodes[c].center.as_dvec3(),
+                End::Node(n) => mesh.nodes[n].face.centroid().as_dvec3(),
             }
         };
         // Σ_k w_k X_k / Σ_k w_k D_k, or None where nothing of the cluster faces ω.
@@ -213,27 +212,26 @@ impl State {
                 let mut scalar = Rgb::ZERO;
                 let mut q = [Rgb::ZERO; 6];
                 for l in &links[g.clone()] {
-                    let involves_cluster = (l.source | r) & CLUSTER != 0;
+                    let involves_cluster = l.source.is_cluster() || r.is_cluster();
                     let out = if involves_cluster {
                         (center(r) - center(l.source)).normalize_or_zero()
                     } else {
                         DVec3::ZERO
                     };
-                    let b = if l.source & CLUSTER != 0 {
-                        let s = (l.source & !CLUSTER) as usize;
-                        let w = axis_weights(out);
-                        toward(s, &w).map_or(Rgb::ZERO, |den| {
-                            w.iter().zip(cluster_n[s]).map(|(w, n)| n * *w).sum::<Rgb>() / den
-                        })
-                    } else {
-                        node_b[l.source as usize]
+                    let b = match l.source.end() {
+                        End::Cluster(s) => {
+                            let w = axis_weights(out);
+                            toward(s, &w).map_or(Rgb::ZERO, |den| {
+                                w.iter().zip(cluster_n[s]).map(|(w, n)| n * *w).sum::<Rgb>() / den
+                            })
+                        }
+                        End::Node(s) => node_b[s],
                     };
                     let h = f64::from(l.factor) * b;
-                    if r & CLUSTER == 0 {
+                    let End::Cluster(c) = r.end() else {
                         scalar += h;
                         continue;
-                    }
-                    let c = (r & !CLUSTER) as usize;
+                    };
                     let w = axis_weights(-out);
                     match toward(c, &w) {
                         Some(den) => {
@@ -249,12 +247,12 @@ impl State {
             })
             .collect();
         for (g, (h, q)) in groups.iter().zip(sums) {
-            let r = links[g.start].receiver;
-            if r & CLUSTER != 0 {
-                self.cluster_h[(r & !CLUSTER) as usize] = h;
-                self.cluster_q[(r & !CLUSTER) as usize] = q;
-            } else {
-                self.node_h[r as usize] = h;
+            match links[g.start].receiver.end() {
+                End::Cluster(c) => {
+                    self.cluster_h[c] = h;
+                    self.cluster_q[c] = q;
+                }
+                End::Node(n) => self.node_h[n] = h,
             }
         }
     }

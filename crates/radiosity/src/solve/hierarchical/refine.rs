@@ -22,7 +22,7 @@
 
 use rayon::prelude::*;
 
-use super::link::{Estimate, Link, View, CLUSTER};
+use super::link::{End, Estimate, Handle, Link, Sight, View};
 use crate::mesh::{Mesh, MAX_LEVEL};
 
 /// The largest share of a receiving cluster's radiosity one link may bring
@@ -49,11 +49,10 @@ pub struct Oracle<'a> {
 
 impl Oracle<'_> {
     /// The radiosity (largest channel) of a handle.
-    fn radiosity(&self, h: u32) -> f64 {
-        if h & CLUSTER != 0 {
-            self.cluster_b[(h & !CLUSTER) as usize]
-        } else {
-            self.node_b[h as usize]
+    fn radiosity(&self, h: Handle) -> f64 {
+        match h.end() {
+            End::Cluster(c) => self.cluster_b[c],
+            End::Node(n) => self.node_b[n],
         }
     }
 
@@ -73,9 +72,10 @@ impl Oracle<'_> {
     /// −1.8 %, cornell-faces −4.3 % → −3.5 %, obj-box +4.4 % → +3.6 %; the furnished room's
     /// ball (+6.9 %) did not move.
     fn source_varies(&self, view: &View, l: &Link) -> bool {
-        l.source & CLUSTER == 0
-            && self.node_spread[l.source as usize] * f64::from(l.factor) * view.area(l.receiver)
+        l.source.as_node().is_some_and(|s| {
+            self.node_spread[s] * f64::from(l.factor) * view.area(l.receiver)
                 > self.threshold * VARIATION
+        })
     }
 
     /// Whether a cluster receives through `l` so much of its light that pushing it to all its
@@ -85,7 +85,7 @@ impl Oracle<'_> {
     /// are split on the receiver side until they reach faces. In the first pass (B = E) every
     /// emitter's links reach faces this way.
     fn pushes_unevenly(&self, l: &Link) -> bool {
-        if l.receiver & CLUSTER == 0 {
+        if !l.receiver.is_cluster() {
             return false;
         }
         let b = self.radiosity(l.source);
@@ -94,11 +94,11 @@ impl Oracle<'_> {
 
     /// Whether a handle can be split: clusters and split faces always, leaves while their
     /// children stay above the minimum area and below the deepest level.
-    fn splittable(mesh: &Mesh, min_area: f64, h: u32) -> bool {
-        if h & CLUSTER != 0 {
+    fn splittable(mesh: &Mesh, min_area: f64, h: Handle) -> bool {
+        let End::Node(n) = h.end() else {
             return true;
-        }
-        let node = &mesh.nodes[h as usize];
+        };
+        let node = &mesh.nodes[n];
         node.children.is_some() || (node.level < MAX_LEVEL && node.face.area() >= 4.0 * min_area)
     }
 }
@@ -131,14 +131,18 @@ pub fn round(
     view: &View,
     oracle: &Oracle,
     links: &[Link],
-    force: &[u32],
+    force: &[Handle],
     stop: &(dyn Fn() -> bool + Sync),
 ) -> Round {
     let mut out = links
         .par_iter()
         .fold(Round::default, |mut acc, l| {
-            let forced = force.binary_search(&l.receiver).is_ok();
-            Refiner { view, oracle, stop }.link(*l, forced, &mut acc);
+            let split = if force.binary_search(&l.receiver).is_ok() {
+                Split::Receiver
+            } else {
+                Split::AsJudged
+            };
+            Refiner { view, oracle, stop }.link(*l, split, &mut acc);
             acc
         })
         .reduce(Round::default, Round::append);
@@ -153,7 +157,8 @@ pub fn round(
 pub fn start(view: &View, oracle: &Oracle, stop: &(dyn Fn() -> bool + Sync)) -> Round {
     let mut out = Round::default();
     if !view.clusters.nodes.is_empty() {
-        Refiner { view, oracle, stop }.pair(CLUSTER, CLUSTER, false, &mut out);
+        let root = Handle::ROOT_CLUSTER;
+        Refiner { view, oracle, stop }.pair(root, root, Sight::Unknown, &mut out);
     }
     out.splits.sort_unstable();
     out.splits.dedup();
@@ -175,13 +180,24 @@ enum Side {
     Source,
 }
 
+/// Whether a link's receiver is split whatever the oracle says: the display passes' steep
+/// elements ([`round`]'s `force`).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Split {
+    /// As the oracle judges.
+    AsJudged,
+    /// The receiver, if it can be.
+    Receiver,
+}
+
 impl Refiner<'_, '_> {
     /// Keeps `l`, or replaces it by finer links, or keeps it pending a leaf split.
-    fn link(&self, l: Link, forced: bool, acc: &mut Round) {
+    fn link(&self, l: Link, split: Split, acc: &mut Round) {
         if (self.stop)() {
             return;
         }
         let can = |h| Oracle::splittable(self.view.mesh, self.oracle.min_area, h);
+        let forced = split == Split::Receiver;
         let side = if (forced || self.oracle.pushes_unevenly(&l)) && can(l.receiver) {
             Some(Side::Receiver)
         } else if self.oracle.source_varies(self.view, &l) {
@@ -216,34 +232,37 @@ impl Refiner<'_, '_> {
         } else {
             l.source
         };
-        if h & CLUSTER == 0 && self.view.mesh.nodes[h as usize].children.is_none() {
-            acc.splits.push(h);
+        let leaf = h
+            .as_node()
+            .filter(|&n| self.view.mesh.nodes[n].children.is_none());
+        if let Some(n) = leaf {
+            acc.splits.push(n as u32);
             acc.links.push(l);
             return;
         }
         acc.refined += 1;
-        self.expand(l.receiver, l.source, side, l.clear(), acc);
+        self.expand(l.receiver, l.source, side, l.sight(), acc);
     }
 
-    /// Links from or to the children of one side of the pair (r, s); `clear` when the two
-    /// are faces known to be wholly visible to each other.
-    fn expand(&self, r: u32, s: u32, side: Side, clear: bool, acc: &mut Round) {
+    /// Links from or to the children of one side of the pair (r, s), whose visibility is
+    /// known as `sight`.
+    fn expand(&self, r: Handle, s: Handle, side: Side, sight: Sight, acc: &mut Round) {
         let mut children = Vec::with_capacity(4);
         self.view
             .children(if side == Side::Receiver { r } else { s }, &mut children);
-        let pair = |c: u32| {
+        let pair = |c: Handle| {
             if side == Side::Receiver {
                 (c, s)
             } else {
                 (r, c)
             }
         };
-        if (r | s) & CLUSTER != 0 && children.len() > 1 {
+        if (r.is_cluster() || s.is_cluster()) && children.len() > 1 {
             let more = children
                 .par_iter()
                 .fold(Round::default, |mut acc, &c| {
                     let (r, s) = pair(c);
-                    self.pair(r, s, clear, &mut acc);
+                    self.pair(r, s, sight, &mut acc);
                     acc
                 })
                 .reduce(Round::default, Round::append);
@@ -251,43 +270,43 @@ impl Refiner<'_, '_> {
         } else {
             for c in children {
                 let (r, s) = pair(c);
-                self.pair(r, s, clear, acc);
+                self.pair(r, s, sight, acc);
             }
         }
     }
 
     /// Estimates a new pair and refines it as far as it needs.
-    fn pair(&self, r: u32, s: u32, clear: bool, acc: &mut Round) {
+    fn pair(&self, r: Handle, s: Handle, sight: Sight, acc: &mut Round) {
         if (self.stop)() {
             return;
         }
         if r == s {
             // A cluster with itself: every pair of its children (a face never lights itself).
-            if r & CLUSTER == 0 {
+            if !r.is_cluster() {
                 return;
             }
             let mut children = Vec::with_capacity(4);
             self.view.children(r, &mut children);
-            let pairs: Vec<(u32, u32)> = children
+            let pairs: Vec<(Handle, Handle)> = children
                 .iter()
                 .flat_map(|&a| children.iter().map(move |&b| (a, b)))
                 .collect();
             let more = pairs
                 .par_iter()
                 .fold(Round::default, |mut acc, &(a, b)| {
-                    self.pair(a, b, false, &mut acc);
+                    self.pair(a, b, Sight::Unknown, &mut acc);
                     acc
                 })
                 .reduce(Round::default, Round::append);
             *acc = std::mem::take(acc).append(more);
             return;
         }
-        match self.view.estimate(r, s, clear) {
+        match self.view.estimate(r, s, sight) {
             Estimate::Nothing => {}
-            Estimate::Link(l) => self.link(l, false, acc),
+            Estimate::Link(l) => self.link(l, Split::AsJudged, acc),
             Estimate::Open => {
                 // Open the cluster side (the larger sphere when both are clusters).
-                let side = match (r & CLUSTER != 0, s & CLUSTER != 0) {
+                let side = match (r.is_cluster(), s.is_cluster()) {
                     (true, true) => {
                         if self.view.sphere(r).1 >= self.view.sphere(s).1 {
                             Side::Receiver
@@ -298,7 +317,7 @@ impl Refiner<'_, '_> {
                     (true, false) => Side::Receiver,
                     _ => Side::Source,
                 };
-                self.expand(r, s, side, false, acc);
+                self.expand(r, s, side, Sight::Unknown, acc);
             }
         }
     }
