@@ -25,22 +25,34 @@ use crate::bars::Bars;
 
 /// The configurations measured: a name and the `render` flags that make it.
 const CONFIGURATIONS: [(&str, &[&str]); 9] = [
-    ("default (interpolated, 4 samples)", &[]),
-    ("--samples 64", &["--samples", "64"]),
-    ("--mode final (64 samples)", &["--mode", "final"]),
+    ("default (--mode final, 64 samples)", &[]),
     (
         "--mode final --samples 16",
         &["--mode", "final", "--samples", "16"],
     ),
-    ("--elements 16000", &["--elements", "16000"]),
     (
         "--mode final --elements 16000",
         &["--mode", "final", "--elements", "16000"],
     ),
-    ("--solver hierarchical", &["--solver", "hierarchical"]),
     (
         "--solver hierarchical --mode final",
         &["--solver", "hierarchical", "--mode", "final"],
+    ),
+    (
+        "--mode radiosity (interpolated, 4 samples)",
+        &["--mode", "radiosity"],
+    ),
+    (
+        "--mode radiosity --samples 64",
+        &["--mode", "radiosity", "--samples", "64"],
+    ),
+    (
+        "--mode radiosity --elements 16000",
+        &["--mode", "radiosity", "--elements", "16000"],
+    ),
+    (
+        "--mode radiosity --solver hierarchical",
+        &["--mode", "radiosity", "--solver", "hierarchical"],
     ),
     (
         "--mode raytrace --gather 16",

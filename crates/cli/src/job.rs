@@ -150,32 +150,40 @@ fn render_job(args: &RenderArgs) -> Result<()> {
 
     let render_start = Instant::now();
     let mut batch = Batch::new();
-    if solved.solution.interrupted && args.mode != Mode::Radiosity {
-        // A ray-traced picture takes seconds to minutes: after a Ctrl-C the run ends now.
+    // After a Ctrl-C the run ends now: a ray-traced or evaluated picture takes seconds to
+    // minutes, so an interrupted solve is pictured the quick way, by its interpolated lit mesh
+    // at the default samples.
+    let (mode, raster) = if solved.solution.interrupted && args.mode != Mode::Radiosity {
         say(
             common,
-            "not rendered: the solve was interrupted (the stats and exports hold the solution \
-             so far; --mode radiosity pictures it at once)",
+            "the solve was interrupted: the picture is the solution so far, interpolated \
+             (--mode radiosity)",
         );
+        let quick = RasterSettings {
+            samples_per_pixel: raster.samples_per_pixel.min(SAMPLES),
+            ..raster
+        };
+        (Mode::Radiosity, quick)
     } else {
-        let image = picture::render_mode(
-            &solved,
-            &camera,
-            args.mode,
-            &raster,
-            args.gather,
-            !args.no_shadows,
-            common.run.quiet,
-        )?;
-        let exposure = args
-            .exposure
-            .unwrap_or_else(|| tonemap::auto_exposure(&image));
-        for path in &outputs {
-            if may_write(path, &solved, common) {
-                stage(&mut batch, path, |tmp| {
-                    Ok(write_image(tmp, &image, exposure)?)
-                })?;
-            }
+        (args.mode, raster)
+    };
+    let image = picture::render_mode(
+        &solved,
+        &camera,
+        mode,
+        &raster,
+        args.gather,
+        !args.no_shadows,
+        common.run.quiet,
+    )?;
+    let exposure = args
+        .exposure
+        .unwrap_or_else(|| tonemap::auto_exposure(&image));
+    for path in &outputs {
+        if may_write(path, &solved, common) {
+            stage(&mut batch, path, |tmp| {
+                Ok(write_image(tmp, &image, exposure)?)
+            })?;
         }
     }
     let render_seconds = render_start.elapsed().as_secs_f64();

@@ -111,6 +111,12 @@ fn sigint_writes_the_solution_so_far_and_exits_130() {
     );
     let png = std::fs::read(dir.join("out.png")).expect("image written");
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    // The default mode (final) is not run on an interrupted solve: the picture is the
+    // interpolated one, and the run says so.
+    assert!(
+        stderr.contains("the picture is the solution so far, interpolated"),
+        "{stderr}"
+    );
     let (_, iterations) = stats_iterations(&dir.join("stats.json"));
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("stats.json")).expect("stats"))
