@@ -31,6 +31,7 @@
 use glam::Vec3;
 
 use super::bvh::{Bvh, DEEP_STACK, SHALLOW_STACK};
+use super::isa;
 use super::node::{is_leaf, leaf_range, Node, WIDTH};
 use super::packet::LANES;
 use super::ray::{Hit, Ray};
@@ -103,6 +104,8 @@ impl Walk {
         stack: &mut Stack<STACK>,
     ) -> bool {
         let cur = self.cur;
+        #[cfg(feature = "count")]
+        crate::accel::COUNT_STEPS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         if is_leaf(cur) {
             if self.leaf::<ANY>(bvh, cur) && ANY {
                 return true;
@@ -199,6 +202,8 @@ impl Walk {
     fn leaf<const ANY: bool>(&mut self, bvh: &Bvh, r: u32) -> bool {
         let (first, count) = leaf_range(r);
         let mut found = false;
+        #[cfg(feature = "count")]
+        crate::accel::COUNT_PACKETS.fetch_add(count as u64, std::sync::atomic::Ordering::Relaxed);
         for (k, packet) in bvh.packets[first..first + count].iter().enumerate() {
             if let Some((lane, t, u, v)) = packet.intersect(self.o, self.d, self.best_t) {
                 self.best_t = t;
@@ -249,21 +254,31 @@ impl Bvh {
     /// The nearest hit with t in (0, `t_max`), if any.
     #[must_use]
     pub fn closest_hit(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        if self.stack_need < SHALLOW_STACK {
-            self.walk::<false, SHALLOW_STACK>(ray, t_max)
-        } else {
-            self.walk::<false, DEEP_STACK>(ray, t_max)
-        }
+        isa::run(
+            #[inline(always)]
+            || {
+                if self.stack_need < SHALLOW_STACK {
+                    self.walk::<false, SHALLOW_STACK>(ray, t_max)
+                } else {
+                    self.walk::<false, DEEP_STACK>(ray, t_max)
+                }
+            },
+        )
     }
 
     /// Whether anything is hit with t in (0, `t_max`) (stops at the first hit found).
     #[must_use]
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        if self.stack_need < SHALLOW_STACK {
-            self.walk::<true, SHALLOW_STACK>(ray, t_max).is_some()
-        } else {
-            self.walk::<true, DEEP_STACK>(ray, t_max).is_some()
-        }
+        isa::run(
+            #[inline(always)]
+            || {
+                if self.stack_need < SHALLOW_STACK {
+                    self.walk::<true, SHALLOW_STACK>(ray, t_max).is_some()
+                } else {
+                    self.walk::<true, DEEP_STACK>(ray, t_max).is_some()
+                }
+            },
+        )
     }
 
     /// [`Bvh::closest_hit`] of every ray k of `rays` with t in (0, `t_max[k]`), written to
@@ -273,11 +288,16 @@ impl Bvh {
     /// When the three slices differ in length.
     pub fn closest_hits(&self, rays: &[Ray], t_max: &[f32], out: &mut [Option<Hit>]) {
         assert!(rays.len() == t_max.len() && rays.len() == out.len());
-        if self.stack_need < SHALLOW_STACK {
-            self.interleave::<false, SHALLOW_STACK>(rays, t_max, |k, hit| out[k] = hit);
-        } else {
-            self.interleave::<false, DEEP_STACK>(rays, t_max, |k, hit| out[k] = hit);
-        }
+        isa::run(
+            #[inline(always)]
+            || {
+                if self.stack_need < SHALLOW_STACK {
+                    self.interleave::<false, SHALLOW_STACK>(rays, t_max, |k, hit| out[k] = hit);
+                } else {
+                    self.interleave::<false, DEEP_STACK>(rays, t_max, |k, hit| out[k] = hit);
+                }
+            },
+        );
     }
 
     /// [`Bvh::occluded`] of every ray k of `rays` with t in (0, `t_max[k]`), written to
@@ -287,11 +307,20 @@ impl Bvh {
     /// When the three slices differ in length.
     pub fn occluded_many(&self, rays: &[Ray], t_max: &[f32], out: &mut [bool]) {
         assert!(rays.len() == t_max.len() && rays.len() == out.len());
-        if self.stack_need < SHALLOW_STACK {
-            self.interleave::<true, SHALLOW_STACK>(rays, t_max, |k, hit| out[k] = hit.is_some());
-        } else {
-            self.interleave::<true, DEEP_STACK>(rays, t_max, |k, hit| out[k] = hit.is_some());
-        }
+        isa::run(
+            #[inline(always)]
+            || {
+                if self.stack_need < SHALLOW_STACK {
+                    self.interleave::<true, SHALLOW_STACK>(rays, t_max, |k, hit| {
+                        out[k] = hit.is_some();
+                    });
+                } else {
+                    self.interleave::<true, DEEP_STACK>(rays, t_max, |k, hit| {
+                        out[k] = hit.is_some();
+                    });
+                }
+            },
+        );
     }
 
     /// One ray's walk to its end.
@@ -308,6 +337,7 @@ impl Bvh {
 
     /// The walks of all `rays`, [`INTERLEAVE`] at a time, one step each in turn; `done` gets
     /// each ray's index and result.
+    #[inline(always)]
     fn interleave<const ANY: bool, const STACK: usize>(
         &self,
         rays: &[Ray],
