@@ -133,11 +133,7 @@ impl Walk {
                         continue;
                     }
                     let key = if self.by_area {
-                        let b = &node.bounds;
-                        let dx = b[1][k] - b[0][k];
-                        let dy = b[3][k] - b[2][k];
-                        let dz = b[5][k] - b[4][k];
-                        -(dx * dy + dy * dz + dz * dx)
+                        -node.half_area(k)
                     } else {
                         near[k]
                     };
