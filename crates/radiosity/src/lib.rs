@@ -17,7 +17,7 @@
 //! 7. [`io`]: mesh files in, images out.
 //!
 //! [`pipeline`] strings them together and [`stats`] reports what happened.
-// One `unsafe`, in `accel::isa` (run-time instruction-set dispatch of the ray queries).
+// `unsafe` only in `accel::isa`: run-time instruction-set dispatch and a cache prefetch.
 #![deny(unsafe_code)]
 
 pub mod accel;

@@ -13,9 +13,11 @@
 //! |---|---|---|
 //! | [`Isa`] in effect | the best the processor has | [`set`] lowers it (benchmarks, tests) |
 //!
-//! The one `unsafe` of the crate is here: calling a `#[target_feature]` function needs the
+//! The crate's two `unsafe` blocks are here: calling a `#[target_feature]` function needs the
 //! caller to promise that the processor has the features, which [`std::is_x86_feature_detected`]
-//! establishes. Measured on the 1M-triangle benchmark scenes (`benches/README.md`).
+//! establishes, and [`prefetch`]'s intrinsic is declared that way. Measured on the
+//! 1M-triangle benchmark scenes (`benches/README.md`): with AVX2 1.03–1.3× the SSE2 build's
+//! rays per second on every scene and query.
 
 use std::sync::atomic::{AtomicU8, Ordering};
 
@@ -92,4 +94,21 @@ pub(super) fn run<R>(f: impl FnOnce() -> R) -> R {
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
 fn avx2<R>(f: impl FnOnce() -> R) -> R {
     f()
+}
+
+/// Asks the cache for the line holding `x` ahead of its use; no effect on any result.
+/// (Measured on the 1M-triangle scenes, incoherent closest hits, 1 thread: 3–9 % faster when
+/// a node's hit children are all prefetched before the nearest is entered.)
+#[inline(always)]
+pub(super) fn prefetch<T>(x: &T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        // SAFETY: a prefetch is a hint that reads nothing the program can observe, and the
+        // `sse` feature it is declared with belongs to every x86-64 processor.
+        #[allow(unsafe_code)]
+        unsafe {
+            _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(x).cast());
+        }
+    }
 }

@@ -102,7 +102,7 @@ impl FromIterator<Vec3> for Aabb {
 /// bytes, two cache lines, where the `f32` boxes took four: on the 1M-triangle scenes a ray's
 /// walk is a chain of cache misses, and this halves the bytes each node step brings in.
 #[derive(Clone, Copy, Debug)]
-#[repr(C, align(64))]
+#[repr(C, align(128))]
 pub(super) struct Node {
     /// Corner the planes count from: the node's box's min, per axis.
     origin: [f32; 3],
