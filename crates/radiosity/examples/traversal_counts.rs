@@ -36,14 +36,19 @@ fn counts(reset: bool) -> (u64, u64) {
     }
 }
 
+/// Makes one benchmark scene.
+type Maker = fn() -> BenchScene;
+
 fn main() {
     const TRIANGLES: usize = 1_000_000;
     let args: Vec<String> = std::env::args().collect();
     let only_scene = args.get(1).cloned().unwrap_or_default();
     let only_set = args.get(2).cloned().unwrap_or_default();
-    let makers: [(&str, fn() -> BenchScene); 3] = [
+    let makers: [(&str, Maker); 3] = [
         ("spheres", || bench::scenes::sphere_field(TRIANGLES, true)),
-        ("spheres-open", || bench::scenes::sphere_field(TRIANGLES, false)),
+        ("spheres-open", || {
+            bench::scenes::sphere_field(TRIANGLES, false)
+        }),
         ("teapot", || bench::scenes::teapot(TRIANGLES)),
     ];
     for (name, make) in makers {

@@ -295,7 +295,9 @@ mod tests {
             for _ in 0..200 {
                 let mut v = || (rng.next_f32() * 2.0 - 1.0) * scale + scale * 0.3;
                 let boxes: Vec<Aabb> = (0..1 + (v().abs() as usize % WIDTH))
-                    .map(|_| Aabb::from_points(&[Vec3::new(v(), v(), v()), Vec3::new(v(), v(), v())]))
+                    .map(|_| {
+                        Aabb::from_points(&[Vec3::new(v(), v(), v()), Vec3::new(v(), v(), v())])
+                    })
                     .collect();
                 let node = Node::new(&boxes, &[0; WIDTH]);
                 assert_eq!(node.valid, (1 << boxes.len()) - 1);

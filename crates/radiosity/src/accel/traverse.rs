@@ -121,7 +121,7 @@ impl Walk {
                 // interleaved occlusion (1.14 against 1.44).
                 let mut todo = [(0u32, 0f32); WIDTH];
                 let mut n = 0;
-                for k in 0..WIDTH {
+                for (k, &entry) in near.iter().enumerate() {
                     if mask >> k & 1 == 0 {
                         continue;
                     }
@@ -135,7 +135,7 @@ impl Walk {
                     let key = if self.by_area {
                         -node.half_area(k)
                     } else {
-                        near[k]
+                        entry
                     };
                     todo[n] = (c, key);
                     n += 1;
