@@ -2,12 +2,12 @@
 //! for the x86-64 baseline (SSE2) and once with AVX2, FMA, BMI1/2, LZCNT and POPCNT, and the
 //! second chosen at run time when the processor has them.
 //!
-//! The traversal is written as lane loops ([`super::node`]'s eight slab tests, the four lanes
-//! of [`super::packet`]); compiled for the baseline, LLVM turns each into two 4-wide SSE
+//! The traversal is written as lane loops (the eight slab tests of `node`, the four lanes
+//! of `packet`); compiled for the baseline, LLVM turns each into two 4-wide SSE
 //! operations, with AVX2 into one 8-wide one, and BMI gives the mask walks single
 //! instructions. Results do not change: Rust never fuses a multiply and an add on its own
 //! (no `-ffast-math`), so both builds execute the same IEEE operations in the same order and
-//! return the same bits ([`tests`] checks this on random scenes).
+//! return the same bits (`tests/bvh.rs` checks this on random scenes).
 //!
 //! | setting | default | meaning |
 //! |---|---|---|
@@ -15,7 +15,7 @@
 //!
 //! The crate's two `unsafe` blocks are here: calling a `#[target_feature]` function needs the
 //! caller to promise that the processor has the features, which [`std::is_x86_feature_detected`]
-//! establishes, and [`prefetch`]'s intrinsic is declared that way. Measured on the
+//! establishes, and `prefetch`'s intrinsic is declared that way. Measured on the
 //! 1M-triangle benchmark scenes (`benches/README.md`): with AVX2 1.03–1.3× the SSE2 build's
 //! rays per second on every scene and query.
 

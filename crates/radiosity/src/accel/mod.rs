@@ -6,8 +6,9 @@
 //!
 //! - [`ray`]: [`Ray`], [`Hit`] and the Möller–Trumbore ray–triangle test.
 //! - [`Bvh`] (`bvh`): the hierarchy, built with the binned surface-area heuristic
-//!   (MacDonald & Booth 1990; Wald 2007, `build`), collapsed to 8-wide nodes (`node`) whose
-//!   leaves hold packets of four triangles tested together (`packet`).
+//!   (MacDonald & Booth 1990; Wald 2007, `build`), collapsed to 8-wide nodes with their
+//!   children's boxes quantized to 8 bits (`node`) whose leaves hold packets of four
+//!   triangles tested together (`packet`).
 //! - `traverse`: the closest-hit and occlusion queries, ordered (nearest child first for
 //!   closest hits; largest first for long occlusion rays, nearest first for short segments),
 //!   one ray at a time or four interleaved so that their cache misses overlap.

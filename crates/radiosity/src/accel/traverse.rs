@@ -9,7 +9,8 @@
 //!   nearer is entered and the other pushed, of more all are sorted by entry distance, the
 //!   nearest entered and the others pushed (leaves are ordered with interior children;
 //!   walking the mask's bits measured faster here than a branch per child, 1.28 against
-//!   0.91 Mrays/s interleaved on the teapot);
+//!   0.91 Mrays/s interleaved on the teapot); when several are entered, all of them are
+//!   prefetched first (`isa::prefetch`), so that their cache misses overlap;
 //! - for occlusion, the leaf children are tested at once (cheap, and the large triangles of
 //!   shallow leaves are the likeliest blockers) and interior children are visited largest box
 //!   first: any hit ends the query, and the chance that a random ray crossing a box hits
