@@ -452,6 +452,10 @@ pub struct BenchArgs {
     /// Seed of the ray generator.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Instruction set of the ray queries (default: the best this processor has; the results
+    /// are the same bits either way).
+    #[arg(long, value_enum)]
+    pub isa: Option<BenchIsa>,
     /// Also write the reports as JSON.
     #[arg(long, value_name = "PATH")]
     pub json: Option<PathBuf>,
@@ -466,6 +470,15 @@ pub struct BenchArgs {
     /// another tracer: `benches/embree_rays.py`).
     #[arg(long, value_name = "DIR")]
     pub workload: Option<PathBuf>,
+}
+
+/// `bench --isa`: see `radiosity::accel::isa`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BenchIsa {
+    /// SSE2, what every x86-64 processor runs.
+    Baseline,
+    /// AVX2, FMA, BMI1/2, LZCNT, POPCNT.
+    Avx2,
 }
 
 /// `bench --suite`.

@@ -7,6 +7,7 @@ use std::io::{IsTerminal, Write};
 use anyhow::Context;
 use glam::Vec3;
 use radiosity::accel::bench::{self, AreaLight, BenchScene, Camera, RaySet};
+use radiosity::accel::isa::{self, Isa};
 use radiosity::accel::Bvh;
 use radiosity::io::atomic::write_atomic;
 use radiosity::mesh::{Mesh, Subdivision};
@@ -14,7 +15,7 @@ use radiosity::scene::builtin;
 
 use radiosity::progress::Progress;
 
-use crate::args::BenchArgs;
+use crate::args::{BenchArgs, BenchIsa};
 use crate::bars::Bars;
 
 /// The built-in Cornell box's polygons as triangles, with the camera of its scene file
@@ -63,6 +64,11 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     } else {
         args.threads.iter().map(|&n| n as usize).collect()
     };
+    let isa = isa::set(match args.isa {
+        Some(BenchIsa::Baseline) => Isa::Baseline,
+        Some(BenchIsa::Avx2) | None => Isa::Avx2,
+    });
+    writeln!(std::io::stderr(), "ray queries compiled for {isa:?}")?;
     let target = args.triangles as usize;
     let mut all = Vec::new();
     let mut out = std::io::stdout().lock();

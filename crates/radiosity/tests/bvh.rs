@@ -8,6 +8,7 @@
 //! reported triangle must have the brute-force distance to within 1e-6 relative.
 
 use glam::Vec3;
+use radiosity::accel::isa::{self, Isa};
 use radiosity::accel::{Bvh, Ray};
 use radiosity::hash::SplitMix;
 
@@ -175,6 +176,23 @@ fn check(tris: &[[Vec3; 3]], bvh: &Bvh, rays: &[Ray], rng: &mut Rng) -> usize {
     hits
 }
 
+/// The queries compiled for each instruction set ([`radiosity::accel::isa`]) return the same
+/// bits: the same IEEE operations run in the same order.
+fn same_bits_on_every_isa(bvh: &Bvh, rays: &[Ray]) {
+    let trace = |isa| {
+        // Other tests may switch the global choice meanwhile; they get the same bits either way.
+        isa::set(isa);
+        let closest: Vec<_> = rays.iter().map(|r| bvh.closest_hit(r, 2.5)).collect();
+        let occluded: Vec<_> = rays.iter().map(|r| bvh.occluded(r, 2.5)).collect();
+        let mut batched = vec![None; rays.len()];
+        bvh.closest_hits(rays, &vec![2.5; rays.len()], &mut batched);
+        (closest, occluded, batched)
+    };
+    let baseline = trace(Isa::Baseline);
+    let best = trace(isa::detected());
+    assert!(baseline == best);
+}
+
 #[test]
 fn agrees_with_brute_force_on_random_soups() {
     for seed in 1..=4u64 {
@@ -186,6 +204,7 @@ fn agrees_with_brute_force_on_random_soups() {
             assert_eq!(bvh.triangle_count(), n);
             let rays = rays(300, &tris, &mut rng);
             let hits = check(&tris, &bvh, &rays, &mut rng);
+            same_bits_on_every_isa(&bvh, &rays);
             // The test must exercise hits, not only misses.
             if n >= 64 {
                 assert!(hits > 30, "seed {seed} n {n}: only {hits} hits");

@@ -6,7 +6,9 @@
 //! 2009) and a 4-wide tree, 8 wide was fastest on both original benchmark scenes; packets of
 //! four with the SAH counting packets made the hierarchy 35 % smaller (89 → 57 bytes per
 //! triangle at 1M triangles) and its build 35 % faster, at equal speed on the 1M-triangle
-//! scenes and 10–50 % slower on the 54-triangle Cornell box (see `benches/README.md`).
+//! scenes and 10–50 % slower on the 54-triangle Cornell box; child boxes quantized to 8 bits
+//! then halved the nodes (57 → 50 bytes per triangle) and sped up incoherent rays at 1M
+//! triangles (see `benches/README.md`).
 
 use glam::Vec3;
 
@@ -221,7 +223,7 @@ impl Bvh {
         }
     }
 
-    /// Checks every structural invariant: child boxes inside their parent's, each node reached
+    /// Checks every structural invariant: each triangle inside the boxes on its way down, each node reached
     /// once, leaf ranges in bounds and non-overlapping, every triangle in exactly one lane and
     /// inside its leaf's box, padding lanes of zero area, the depth within the traversal stack,
     /// and the original indices a permutation.
@@ -296,11 +298,14 @@ impl Bvh {
                 if node.child[k] == EMPTY_CHILD {
                     continue;
                 }
+                // A quantized box may reach past its parent's by a step; what must hold is
+                // that each triangle lies inside every box on its way down.
                 let b = node.child_box(k);
-                if !outer.contains(&b) {
-                    return Err(format!("child {k} of node {r} outside its parent box"));
-                }
-                todo.push((node.child[k], b, depth + 1));
+                let inner = Aabb {
+                    min: outer.min.max(b.min),
+                    max: outer.max.min(b.max),
+                };
+                todo.push((node.child[k], inner, depth + 1));
             }
         }
         if let Some(p) = covered.iter().position(|c| !c) {
@@ -386,7 +391,8 @@ mod tests {
             .collect();
         let mut bvh = Bvh::build(&tris);
         assert_eq!(bvh.validate(), Ok(()));
-        bvh.nodes[0].bounds[1][0] -= 0.5;
+        // Child 0's max x moves to its min x: its triangles stick out.
+        bvh.nodes[0].q[1][0] = bvh.nodes[0].q[0][0];
         assert!(bvh.validate().is_err());
     }
 

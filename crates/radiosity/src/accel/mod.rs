@@ -6,11 +6,13 @@
 //!
 //! - [`ray`]: [`Ray`], [`Hit`] and the Möller–Trumbore ray–triangle test.
 //! - [`Bvh`] (`bvh`): the hierarchy, built with the binned surface-area heuristic
-//!   (MacDonald & Booth 1990; Wald 2007, `build`), collapsed to 8-wide nodes (`node`) whose
-//!   leaves hold packets of four triangles tested together (`packet`).
+//!   (MacDonald & Booth 1990; Wald 2007, `build`), collapsed to 8-wide nodes with their
+//!   children's boxes quantized to 8 bits (`node`) whose leaves hold packets of four
+//!   triangles tested together (`packet`).
 //! - `traverse`: the closest-hit and occlusion queries, ordered (nearest child first for
 //!   closest hits; largest first for long occlusion rays, nearest first for short segments),
 //!   one ray at a time or four interleaved so that their cache misses overlap.
+//! - [`isa`]: the queries compiled for the baseline and for AVX2, chosen at run time.
 //! - [`bench`]: the ray-throughput benchmark measured against Intel Embree
 //!   (`benches/README.md`).
 //!
@@ -20,6 +22,7 @@
 pub mod bench;
 mod build;
 pub mod bvh;
+pub mod isa;
 mod node;
 mod packet;
 pub mod ray;
@@ -28,3 +31,10 @@ mod traverse;
 pub use bvh::Bvh;
 pub use node::Aabb;
 pub use ray::{Hit, Ray};
+
+/// With the `count` feature: nodes and leaves visited by all ray queries so far.
+#[cfg(feature = "count")]
+pub static COUNT_STEPS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+/// With the `count` feature: triangle packets tested by all ray queries so far.
+#[cfg(feature = "count")]
+pub static COUNT_PACKETS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);

@@ -79,6 +79,8 @@ pub struct SceneReport {
     pub scene: &'static str,
     /// Triangles in the scene.
     pub triangles: usize,
+    /// Instruction set the queries ran on ([`super::isa::current`]).
+    pub isa: super::isa::Isa,
     /// Bytes the hierarchy holds (nodes, triangles, indices) per input triangle.
     pub bytes_per_triangle: f64,
     /// One entry per pool size.
@@ -205,6 +207,7 @@ pub fn run(
     Ok(SceneReport {
         scene,
         triangles: triangles.len(),
+        isa: super::isa::current(),
         bytes_per_triangle,
         builds,
         sets: reports,
