@@ -365,6 +365,47 @@ mod tests {
     }
 
     #[test]
+    fn rays_in_lanes_match_the_one_ray_slab_test() {
+        let mut rng = crate::hash::SplitMix(6);
+        let mut v = || rng.next_f32() * 2.0 - 1.0;
+        for _ in 0..300 {
+            let boxes: Vec<Aabb> = (0..5)
+                .map(|_| Aabb::from_points(&[Vec3::new(v(), v(), v()), Vec3::new(v(), v(), v())]))
+                .collect();
+            let node = Node::new(&boxes, &[0; WIDTH]);
+            let (mut o, mut inv, mut t_max) = ([[0f32; RAYS]; 3], [[0f32; RAYS]; 3], [0f32; RAYS]);
+            let mut rays = Vec::new();
+            for r in 0..RAYS {
+                let origin = Vec3::new(v(), v(), v()) * 2.0;
+                // Some components zero, as `Walk::new` makes them: ±10²⁰.
+                let i = Vec3::new(1.0 / v(), if r % 3 == 0 { 1e20 } else { 1.0 / v() }, -1.0 / v());
+                for a in 0..3 {
+                    o[a][r] = origin[a];
+                    inv[a][r] = i[a];
+                }
+                t_max[r] = if r % 2 == 0 { f32::INFINITY } else { v().abs() * 2.0 };
+                rays.push((origin, i));
+            }
+            for k in 0..WIDTH {
+                let (entry, mask) = node.slab_rays(k, &o, &inv, &t_max);
+                let mask = if node.has_child(k) { mask } else { 0 };
+                for (r, &(origin, i)) in rays.iter().enumerate() {
+                    let near = [
+                        usize::from(i.x < 0.0),
+                        2 + usize::from(i.y < 0.0),
+                        4 + usize::from(i.z < 0.0),
+                    ];
+                    let (e1, m1) = node.slabs(origin, i, near, t_max[r]);
+                    assert_eq!(mask >> r & 1, m1 >> k & 1, "ray {r} child {k}");
+                    if m1 >> k & 1 != 0 {
+                        assert_eq!(entry[r], e1[k]);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     fn leaf_reference_round_trips() {
         for (first, count) in [(0, 1), (5, 8), (MAX_TRIANGLES - 8, 8)] {
             let r = leaf_ref(first, count);
