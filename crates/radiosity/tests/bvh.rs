@@ -184,7 +184,9 @@ fn check(tris: &[[Vec3; 3]], bvh: &Bvh, rays: &[Ray], rng: &mut Rng) -> usize {
             Ray::new(eye, target - eye + Vec3::new(x, y, 0.3 * x * y))
         })
         .collect();
-    let fan_t: Vec<f32> = (0..fan.len()).map(|i| [f32::INFINITY, 1.0, 0.5][i % 3]).collect();
+    let fan_t: Vec<f32> = (0..fan.len())
+        .map(|i| [f32::INFINITY, 1.0, 0.5][i % 3])
+        .collect();
     coherent_matches_one_ray(tris, bvh, &fan, &fan_t);
     let light = rng.vec(-1.0, 1.0);
     let to_light: Vec<Ray> = (0..203)
@@ -206,7 +208,12 @@ fn coherent_matches_one_ray(tris: &[[Vec3; 3]], bvh: &Bvh, rays: &[Ray], t_max: 
     let mut occluded = vec![false; rays.len()];
     bvh.occluded_coherent(rays, t_max, &mut occluded);
     for (k, ray) in rays.iter().enumerate() {
-        assert_eq!(occluded[k], bvh.occluded(ray, t_max[k]), "{ray:?} {}", t_max[k]);
+        assert_eq!(
+            occluded[k],
+            bvh.occluded(ray, t_max[k]),
+            "{ray:?} {}",
+            t_max[k]
+        );
         let one = bvh.closest_hit(ray, t_max[k]);
         assert_eq!(
             closest[k].map(|h| h.t.to_bits()),

@@ -15,12 +15,22 @@
 //!
 //! What the rays share is the node: it is fetched once and its children are ordered once for
 //! eight rays, where one-ray queries fetch and decide the same node eight times in a row
-//! (coherent rays visit nearly the same nodes). What they do not share is arithmetic: each ray
-//! runs exactly the slab and triangle tests of the one-ray query, so the results are the same:
-//! the same occlusion answer, the same closest distance t (the nearest of the triangles hit,
-//! whatever the order of visit), and the same triangle, u and v except where two triangles are
-//! hit at exactly the same t (a shared edge), where either may be reported, as with the
-//! one-ray query. Incoherent rays gain nothing here: use [`Bvh::closest_hits`].
+//! (coherent rays visit nearly the same nodes: 23 steps per packet on the closed 1M-triangle
+//! field's primary rays, 18.8 per ray alone). With [`RAY_SIMD_MIN`] rays or more active, a
+//! node's children are tested one at a time with the rays in the lanes (`Node::slab_rays`),
+//! which computes each child's dequantized planes once for all rays; closest-hit leaves
+//! likewise, triangle by triangle. Each ray still runs exactly the slab and triangle
+//! arithmetic of the one-ray query, so the results are the same: the same occlusion answer,
+//! the same closest distance t bit for bit (the nearest of the triangles hit, whatever the
+//! order of visit), and the same triangle, u and v except where two triangles are hit at
+//! exactly the same t (a shared edge), where either may be reported, as with the one-ray
+//! query. The packets are the slice's consecutive groups of [`PACKET`] from its start, so the
+//! result depends on the slice only, not on threads or the instruction set.
+//!
+//! Measured (`benches/README.md`, 1M triangles, one thread): closest hit on a 512² camera's
+//! primary rays 1.14–1.60× the one-ray query (closed field 2.63 → 4.12 Mrays/s), on shadow
+//! rays 0.98–1.23×; incoherent rays are slower in packets (0.69–0.83×): use
+//! [`Bvh::closest_hits`].
 
 use super::bvh::{Bvh, DEEP_STACK, SHALLOW_STACK};
 use super::isa;
@@ -34,14 +44,14 @@ pub const PACKET: usize = RAYS;
 
 /// Active rays from which a node is tested child by child with the rays in lanes
 /// (`Node::slab_rays`) rather than ray by ray with the children in lanes (`Node::slabs`)
-/// (measured 1, 3 and 5 on the 1M-triangle scenes' primary and shadow rays: 1 is 5–30 %
-/// slower than 3 on most; 3 and 5 within noise of each other).
+/// (measured 1, 3 and 5 on the 1M-triangle scenes' primary and shadow rays: 1 is 2–27 %
+/// slower than 3 on 11 of 12; 3 and 5 within noise of each other).
 const RAY_SIMD_MIN: usize = 3;
 
 /// Active rays from which a leaf is tested triangle by triangle with the rays in lanes
 /// (`Tri4::lane_rays`) rather than ray by ray with the triangles in lanes (`Tri4::intersect`),
 /// closest hits only (measured against never, 1M-triangle scenes, primary and shadow rays:
-/// closest hit 1.0–1.1× on all six, occlusion 0.8–1.25×, within noise).
+/// closest hit 1.03–1.12× on all six, occlusion 0.8–1.25×, within noise).
 const LEAF_RAY_SIMD_MIN: usize = 3;
 
 /// The smallest of `entry` over the lanes set in `mask` (at least one).
@@ -186,8 +196,7 @@ impl Rays {
         #[cfg(feature = "count")]
         crate::accel::COUNT_PACKETS.fetch_add(count as u64, std::sync::atomic::Ordering::Relaxed);
         for (k, packet) in bvh.packets[first..first + count].iter().enumerate() {
-            if let Some((lane, t, u, v)) = packet.intersect(self.o[r], self.d[r], self.best_t[r])
-            {
+            if let Some((lane, t, u, v)) = packet.intersect(self.o[r], self.d[r], self.best_t[r]) {
                 self.best_t[r] = t;
                 self.best[r] = Some(((first + k) * LANES + lane, u, v));
                 found = true;

@@ -378,12 +378,20 @@ mod tests {
             for r in 0..RAYS {
                 let origin = Vec3::new(v(), v(), v()) * 2.0;
                 // Some components zero, as `Walk::new` makes them: ±10²⁰.
-                let i = Vec3::new(1.0 / v(), if r % 3 == 0 { 1e20 } else { 1.0 / v() }, -1.0 / v());
+                let i = Vec3::new(
+                    1.0 / v(),
+                    if r % 3 == 0 { 1e20 } else { 1.0 / v() },
+                    -1.0 / v(),
+                );
                 for a in 0..3 {
                     o[a][r] = origin[a];
                     inv[a][r] = i[a];
                 }
-                t_max[r] = if r % 2 == 0 { f32::INFINITY } else { v().abs() * 2.0 };
+                t_max[r] = if r % 2 == 0 {
+                    f32::INFINITY
+                } else {
+                    v().abs() * 2.0
+                };
                 rays.push((origin, i));
             }
             for k in 0..WIDTH {
