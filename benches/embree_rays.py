@@ -208,10 +208,14 @@ def table(paths):
                                 batched = rate.get(f"{q}_batched_rays_per_second")
                                 if batched is not None:
                                     keep(ours, (scene, s["name"], q, rate["threads"], "b"), batched)
+                                packet = rate.get(f"{q}_packet_rays_per_second")
+                                if packet is not None:
+                                    keep(ours, (scene, s["name"], q, rate["threads"], "p"), packet)
     lines = [
         "| scene | rays | query | ours 1 thread | ours 2 threads | Embree 1 thread | ratio "
-        "| ours interleaved 1 / 2 threads | ratio interleaved |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| ours interleaved 1 / 2 threads | ratio interleaved "
+        "| ours packets of 8 1 / 2 threads | ratio packets |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     mega = lambda x: f"{x / 1e6:.2f}" if x else "–"
     for (scene, name, q), e in embree.items():
@@ -221,6 +225,8 @@ def table(paths):
         two = ours.get((scene, name, q, 2))
         one_b = ours.get((scene, name, q, 1, "b"))
         two_b = ours.get((scene, name, q, 2, "b"))
+        one_p = ours.get((scene, name, q, 1, "p"))
+        two_p = ours.get((scene, name, q, 2, "p"))
         ours_counts = counts.get((scene, name, "ours"))
         embree_counts = counts.get((scene, name, "embree"))
         shown = lambda c: ", ".join(f"{o} occluded, {h} hit" for o, h in sorted(c or ()))
@@ -233,6 +239,8 @@ def table(paths):
             f"| {scene} | {name} | {q.replace('_', ' ')} | {mega(one)} | {mega(two)} | "
             f"{mega(e)} | {one / e:.2f}{note} | {mega(one_b)} / {mega(two_b)} | "
             + (f"{one_b / e:.2f}" if one_b else "–")
+            + f" | {mega(one_p)} / {mega(two_p)} | "
+            + (f"{one_p / e:.2f}" if one_p else "–")
             + " |"
         )
     lines += [

@@ -101,16 +101,18 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
                 writeln!(
                     out,
                     "{:<12} {:<10} rays {:>7}  threads {:>2}  Mrays/s: occlusion {:6.2}, \
-                     interleaved {:6.2}; closest hit {:6.2}, interleaved {:6.2}  \
-                     occluded {}  hits {}",
+                     interleaved {:6.2}, packets {:6.2}; closest hit {:6.2}, \
+                     interleaved {:6.2}, packets {:6.2}  occluded {}  hits {}",
                     report.scene,
                     s.name,
                     s.rays,
                     r.threads,
                     r.occlusion_rays_per_second / 1e6,
                     r.occlusion_batched_rays_per_second / 1e6,
+                    r.occlusion_packet_rays_per_second / 1e6,
                     r.closest_hit_rays_per_second / 1e6,
                     r.closest_hit_batched_rays_per_second / 1e6,
+                    r.closest_hit_packet_rays_per_second / 1e6,
                     s.occluded,
                     s.hits,
                 )?;

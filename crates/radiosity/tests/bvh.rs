@@ -173,7 +173,63 @@ fn check(tris: &[[Vec3; 3]], bvh: &Bvh, rays: &[Ray], rng: &mut Rng) -> usize {
         assert_eq!(closest[k], bvh.closest_hit(ray, t_max[k]), "{ray:?}");
         assert_eq!(occluded[k], bvh.occluded(ray, t_max[k]), "{ray:?}");
     }
+    // So do the packet queries, on these incoherent rays and on coherent ones (a camera's fan
+    // from one point, and segments from many points to one).
+    coherent_matches_one_ray(tris, bvh, rays, &t_max);
+    let eye = rng.vec(-1.5, 1.5);
+    let target = rng.vec(-0.5, 0.5);
+    let fan: Vec<Ray> = (0..203)
+        .map(|i| {
+            let (x, y) = ((i % 16) as f32 / 8.0 - 1.0, (i / 16) as f32 / 6.0 - 1.0);
+            Ray::new(eye, target - eye + Vec3::new(x, y, 0.3 * x * y))
+        })
+        .collect();
+    let fan_t: Vec<f32> = (0..fan.len())
+        .map(|i| [f32::INFINITY, 1.0, 0.5][i % 3])
+        .collect();
+    coherent_matches_one_ray(tris, bvh, &fan, &fan_t);
+    let light = rng.vec(-1.0, 1.0);
+    let to_light: Vec<Ray> = (0..203)
+        .map(|i| {
+            let o = eye + Vec3::new((i % 16) as f32 * 0.05, (i / 16) as f32 * 0.05, 0.0);
+            Ray::new(o, light - o)
+        })
+        .collect();
+    coherent_matches_one_ray(tris, bvh, &to_light, &vec![1.0; to_light.len()]);
     hits
+}
+
+/// The packet queries ([`Bvh::closest_hits_coherent`], [`Bvh::occluded_coherent`]) against the
+/// one-ray ones: the same occlusion answers and closest distances, bit for bit, and the same
+/// triangle except at a tie in distance.
+fn coherent_matches_one_ray(tris: &[[Vec3; 3]], bvh: &Bvh, rays: &[Ray], t_max: &[f32]) {
+    let mut closest = vec![None; rays.len()];
+    bvh.closest_hits_coherent(rays, t_max, &mut closest);
+    let mut occluded = vec![false; rays.len()];
+    bvh.occluded_coherent(rays, t_max, &mut occluded);
+    for (k, ray) in rays.iter().enumerate() {
+        assert_eq!(
+            occluded[k],
+            bvh.occluded(ray, t_max[k]),
+            "{ray:?} {}",
+            t_max[k]
+        );
+        let one = bvh.closest_hit(ray, t_max[k]);
+        assert_eq!(
+            closest[k].map(|h| h.t.to_bits()),
+            one.map(|h| h.t.to_bits()),
+            "{ray:?} {}",
+            t_max[k]
+        );
+        if let (Some(a), Some(b)) = (closest[k], one) {
+            if a.triangle == b.triangle {
+                assert_eq!(a, b);
+            } else {
+                let t2 = ray.intersect_triangle(&tris[a.triangle as usize], f32::INFINITY);
+                assert!(t2.is_some_and(|(t2, _, _)| close(t2, b.t)), "{ray:?}");
+            }
+        }
+    }
 }
 
 /// The queries compiled for each instruction set ([`radiosity::accel::isa`]) return the same
@@ -186,7 +242,11 @@ fn same_bits_on_every_isa(bvh: &Bvh, rays: &[Ray]) {
         let occluded: Vec<_> = rays.iter().map(|r| bvh.occluded(r, 2.5)).collect();
         let mut batched = vec![None; rays.len()];
         bvh.closest_hits(rays, &vec![2.5; rays.len()], &mut batched);
-        (closest, occluded, batched)
+        let mut packets = vec![None; rays.len()];
+        bvh.closest_hits_coherent(rays, &vec![2.5; rays.len()], &mut packets);
+        let mut packets_occluded = vec![false; rays.len()];
+        bvh.occluded_coherent(rays, &vec![2.5; rays.len()], &mut packets_occluded);
+        (closest, occluded, batched, packets, packets_occluded)
     };
     let baseline = trace(Isa::Baseline);
     let best = trace(isa::detected());

@@ -12,6 +12,8 @@
 //! - `traverse`: the closest-hit and occlusion queries, ordered (nearest child first for
 //!   closest hits; largest first for long occlusion rays, nearest first for short segments),
 //!   one ray at a time or four interleaved so that their cache misses overlap.
+//! - [`coherent`]: ray packets, eight coherent rays (a camera's, shadow rays to one light)
+//!   walked together, sharing each node's fetch and ordering.
 //! - [`isa`]: the queries compiled for the baseline and for AVX2, chosen at run time.
 //! - [`bench`]: the ray-throughput benchmark measured against Intel Embree
 //!   (`benches/README.md`).
@@ -22,6 +24,7 @@
 pub mod bench;
 mod build;
 pub mod bvh;
+pub mod coherent;
 pub mod isa;
 mod node;
 mod packet;

@@ -25,6 +25,8 @@ use glam::Vec3;
 pub(super) const MAX_LEAF: usize = 8;
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
+/// Rays of a packet ([`super::coherent`]) tested together against one child box.
+pub(super) const RAYS: usize = 8;
 /// Reference in an unused child slot.
 pub(super) const EMPTY_CHILD: u32 = u32::MAX;
 /// Leaf bit of a child reference.
@@ -111,7 +113,7 @@ pub(super) struct Node {
     /// `q[plane][child]`, planes in the order min x, max x, min y, max y, min z, max z.
     pub(super) q: [[u8; WIDTH]; 6],
     pub(super) child: [u32; WIDTH],
-    /// Bit k set when slot k holds a child (unused slots have no box).
+    /// Bit k set when slot k holds a child (unused slots have an empty box).
     valid: u32,
 }
 
@@ -167,7 +169,11 @@ impl Node {
                 q[2 * axis + 1][k] = hi;
             }
             refs[k] = child.get(k).copied().unwrap_or(EMPTY_CHILD);
-            valid |= 1 << k;
+            // An empty box (an unused slot the builder fills with `Aabb::EMPTY`) quantizes
+            // to an inverted one, which `slabs` rejects but `slab_rays` would not.
+            if b.min.cmple(b.max).all() {
+                valid |= 1 << k;
+            }
         }
         Self {
             origin,
@@ -218,6 +224,50 @@ impl Node {
             mask |= u32::from(entry[k] <= exit[k]) << k;
         }
         (entry, mask & self.valid)
+    }
+
+    /// Slab tests of child `k` against [`RAYS`] rays at once (ray r: `o[axis][r]`, `inv` and
+    /// `t_max` likewise), lane by lane over the rays: each ray's entry distance and the mask of
+    /// the rays that enter. Lane r computes exactly what [`Node::slabs`] computes for ray r
+    /// and child `k` (the near plane's distance is the smaller of the two planes' distances,
+    /// which for a positive 1/d is the min plane's and for a negative one the max plane's).
+    #[inline(always)]
+    pub(super) fn slab_rays(
+        &self,
+        k: usize,
+        o: &[[f32; RAYS]; 3],
+        inv: &[[f32; RAYS]; 3],
+        t_max: &[f32; RAYS],
+    ) -> ([f32; RAYS], u32) {
+        let q = &self.q;
+        let plane = |p: usize| self.origin[p / 2] + f32::from(q[p][k]) * self.step[p / 2];
+        let (x0, x1, y0, y1, z0, z1) = (plane(0), plane(1), plane(2), plane(3), plane(4), plane(5));
+        let mut entry = [0f32; RAYS];
+        let mut exit = [0f32; RAYS];
+        for r in 0..RAYS {
+            let ax = (x0 - o[0][r]) * inv[0][r];
+            let bx = (x1 - o[0][r]) * inv[0][r];
+            let ay = (y0 - o[1][r]) * inv[1][r];
+            let by = (y1 - o[1][r]) * inv[1][r];
+            let az = (z0 - o[2][r]) * inv[2][r];
+            let bz = (z1 - o[2][r]) * inv[2][r];
+            let (tx0, tx1) = (min(ax, bx), max(ax, bx));
+            let (ty0, ty1) = (min(ay, by), max(ay, by));
+            let (tz0, tz1) = (min(az, bz), max(az, bz));
+            entry[r] = max(max(tx0, ty0), max(tz0, 0.0));
+            exit[r] = min(min(tx1, ty1), min(tz1, t_max[r])) * ROBUST_FAR;
+        }
+        let mut mask = 0u32;
+        for r in 0..RAYS {
+            mask |= u32::from(entry[r] <= exit[r]) << r;
+        }
+        (entry, mask)
+    }
+
+    /// Whether slot `k` holds a child.
+    #[inline(always)]
+    pub(super) fn has_child(&self, k: usize) -> bool {
+        self.valid >> k & 1 != 0
     }
 
     /// Box of child `k` (as the traversal sees it: quantized outwards).
@@ -308,6 +358,55 @@ mod tests {
                     for a in 0..3 {
                         assert!(b.min[a] - q.min[a] <= node.step[a]);
                         assert!(q.max[a] - b.max[a] <= node.step[a]);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn rays_in_lanes_match_the_one_ray_slab_test() {
+        let mut rng = crate::hash::SplitMix(6);
+        let mut v = || rng.next_f32() * 2.0 - 1.0;
+        for _ in 0..300 {
+            let boxes: Vec<Aabb> = (0..5)
+                .map(|_| Aabb::from_points(&[Vec3::new(v(), v(), v()), Vec3::new(v(), v(), v())]))
+                .collect();
+            let node = Node::new(&boxes, &[0; WIDTH]);
+            let (mut o, mut inv, mut t_max) = ([[0f32; RAYS]; 3], [[0f32; RAYS]; 3], [0f32; RAYS]);
+            let mut rays = Vec::new();
+            for r in 0..RAYS {
+                let origin = Vec3::new(v(), v(), v()) * 2.0;
+                // Some components zero, as `Walk::new` makes them: ±10²⁰.
+                let i = Vec3::new(
+                    1.0 / v(),
+                    if r % 3 == 0 { 1e20 } else { 1.0 / v() },
+                    -1.0 / v(),
+                );
+                for a in 0..3 {
+                    o[a][r] = origin[a];
+                    inv[a][r] = i[a];
+                }
+                t_max[r] = if r % 2 == 0 {
+                    f32::INFINITY
+                } else {
+                    v().abs() * 2.0
+                };
+                rays.push((origin, i));
+            }
+            for k in 0..WIDTH {
+                let (entry, mask) = node.slab_rays(k, &o, &inv, &t_max);
+                let mask = if node.has_child(k) { mask } else { 0 };
+                for (r, &(origin, i)) in rays.iter().enumerate() {
+                    let near = [
+                        usize::from(i.x < 0.0),
+                        2 + usize::from(i.y < 0.0),
+                        4 + usize::from(i.z < 0.0),
+                    ];
+                    let (e1, m1) = node.slabs(origin, i, near, t_max[r]);
+                    assert_eq!(mask >> r & 1, m1 >> k & 1, "ray {r} child {k}");
+                    if m1 >> k & 1 != 0 {
+                        assert_eq!(entry[r], e1[k]);
                     }
                 }
             }

@@ -20,6 +20,8 @@
 
 use glam::Vec3;
 
+use super::node::RAYS;
+
 /// Triangles per packet.
 pub(super) const LANES: usize = 4;
 
@@ -80,6 +82,65 @@ impl Tri4 {
             }
         }
         Some((best, t[best], u[best], v[best]))
+    }
+
+    /// Möller–Trumbore of the triangle in `lane` against [`RAYS`] rays at once (ray r: origin
+    /// `o[axis][r]`, direction `d[axis][r]`, far end `t_max[r]`), lane by lane over the rays:
+    /// (t, u, v) per ray and the mask of the rays that hit it. Each ray's lane runs the very
+    /// operations of [`Tri4::lanes`] (and so of the scalar test) for this triangle.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop, clippy::manual_range_contains)]
+    pub(super) fn lane_rays(
+        &self,
+        lane: usize,
+        o: &[[f32; RAYS]; 3],
+        d: &[[f32; RAYS]; 3],
+        t_max: &[f32; RAYS],
+    ) -> ([f32; RAYS], [f32; RAYS], [f32; RAYS], u32) {
+        let (v0x, v0y, v0z) = (self.v0[0][lane], self.v0[1][lane], self.v0[2][lane]);
+        let (e1x, e1y, e1z) = (self.e1[0][lane], self.e1[1][lane], self.e1[2][lane]);
+        let (e2x, e2y, e2z) = (self.e2[0][lane], self.e2[1][lane], self.e2[2][lane]);
+        let mut t = [0f32; RAYS];
+        let mut u = [0f32; RAYS];
+        let mut v = [0f32; RAYS];
+        let mut hits = [false; RAYS];
+        for r in 0..RAYS {
+            let (ox, oy, oz) = (o[0][r], o[1][r], o[2][r]);
+            let (dx, dy, dz) = (d[0][r], d[1][r], d[2][r]);
+            // p = d × e2, det = e1 · p.
+            let px = dy * e2z - e2y * dz;
+            let py = dz * e2x - e2z * dx;
+            let pz = dx * e2y - e2x * dy;
+            let det = (e1x * px) + (e1y * py) + (e1z * pz);
+            let inv_det = 1.0 / det;
+            // s = o − v0, u = (s · p) / det.
+            let sx = ox - v0x;
+            let sy = oy - v0y;
+            let sz = oz - v0z;
+            let ul = ((sx * px) + (sy * py) + (sz * pz)) * inv_det;
+            // q = s × e1, v = (d · q) / det, t = (e2 · q) / det.
+            let qx = sy * e1z - e1y * sz;
+            let qy = sz * e1x - e1z * sx;
+            let qz = sx * e1y - e1x * sy;
+            let vl = ((dx * qx) + (dy * qy) + (dz * qz)) * inv_det;
+            let tl = ((e2x * qx) + (e2y * qy) + (e2z * qz)) * inv_det;
+            let hit = (det != 0.0)
+                & (ul >= 0.0)
+                & (ul <= 1.0)
+                & (vl >= 0.0)
+                & (ul + vl <= 1.0)
+                & (tl > 0.0)
+                & (tl < t_max[r]);
+            t[r] = tl;
+            u[r] = ul;
+            v[r] = vl;
+            hits[r] = hit;
+        }
+        let mut mask = 0;
+        for (r, &hit) in hits.iter().enumerate() {
+            mask |= u32::from(hit) << r;
+        }
+        (t, u, v, mask)
     }
 
     /// Möller–Trumbore on all lanes: (t, u, v) per lane, t = +∞ where the lane misses, and
@@ -174,6 +235,37 @@ mod tests {
                 }
             }
             assert_eq!(packet.intersect(o, d, t_max), expected);
+        }
+    }
+
+    #[test]
+    fn rays_in_lanes_are_bit_identical_to_the_scalar_test() {
+        let mut rng = SplitMix(12);
+        let mut unit = || rng.next_f32() * 2.0 - 1.0;
+        for _ in 0..500 {
+            let mut packet = Tri4::EMPTY;
+            let tri = (
+                Vec3::new(unit(), unit(), unit()),
+                Vec3::new(unit(), unit(), unit()),
+                Vec3::new(unit(), unit(), 0.5),
+            );
+            let lane = (unit().abs() * 3.99) as usize;
+            packet.set(lane, tri.0, tri.1, tri.2);
+            let (mut o, mut d, mut t_max) = ([[0f32; RAYS]; 3], [[0f32; RAYS]; 3], [0f32; RAYS]);
+            for r in 0..RAYS {
+                for a in 0..3 {
+                    o[a][r] = unit() + if a == 2 { 3.0 } else { 0.0 };
+                    d[a][r] = if a == 2 { -1.0 } else { unit() * 0.5 };
+                }
+                t_max[r] = 4.0 + 2.0 * unit();
+            }
+            let (t, u, v, mask) = packet.lane_rays(lane, &o, &d, &t_max);
+            for r in 0..RAYS {
+                let ray = |x: &[[f32; RAYS]; 3]| Vec3::new(x[0][r], x[1][r], x[2][r]);
+                let expected = intersect(ray(&o), ray(&d), tri.0, tri.1, tri.2, t_max[r]);
+                let got = (mask >> r & 1 != 0).then_some((t[r], u[r], v[r]));
+                assert_eq!(got, expected);
+            }
         }
     }
 

@@ -2,7 +2,7 @@
 //! workload file that `benches/embree_rays.py` traces with Intel Embree for comparison.
 //!
 //! For each scene, [`run`] builds the hierarchy and traces each ray set with both queries
-//! (occlusion and closest hit) in a rayon pool of each asked size, best of [`REPETITIONS`]
+//! (occlusion and closest hit), one ray at a time, interleaved and in packets, in a rayon pool of each asked size, best of [`REPETITIONS`]
 //! timings after a warm-up; it also records the build time (best of [`REPETITIONS`]) and the
 //! hierarchy's memory per triangle ([`Bvh::memory_bytes`]).
 //!
@@ -46,6 +46,10 @@ pub struct Rate {
     pub occlusion_batched_rays_per_second: f64,
     /// Best closest-hit throughput of the interleaved query ([`Bvh::closest_hits`]).
     pub closest_hit_batched_rays_per_second: f64,
+    /// Best occlusion throughput of the packet query ([`Bvh::occluded_coherent`]).
+    pub occlusion_packet_rays_per_second: f64,
+    /// Best closest-hit throughput of the packet query ([`Bvh::closest_hits_coherent`]).
+    pub closest_hit_packet_rays_per_second: f64,
 }
 
 /// Results on one ray set.
@@ -191,7 +195,18 @@ pub fn run(
                         bvh.closest_hits(rays, t_max, out);
                     })
                 });
+                let (occlusion_packet, occluded_packet) = best_of(|| {
+                    count_batched(set, |rays, t_max, out| {
+                        bvh.occluded_coherent(rays, t_max, out);
+                    })
+                });
+                let (closest_packet, hits_packet) = best_of(|| {
+                    count_batched(set, |rays, t_max, out: &mut [Option<super::Hit>]| {
+                        bvh.closest_hits_coherent(rays, t_max, out);
+                    })
+                });
                 debug_assert_eq!((occluded, hits), (occluded_batched, hits_batched));
+                debug_assert_eq!((occluded, hits), (occluded_packet, hits_packet));
                 report.occluded = occluded;
                 report.hits = hits;
                 report.rates.push(Rate {
@@ -200,6 +215,8 @@ pub fn run(
                     closest_hit_rays_per_second: rate(closest),
                     occlusion_batched_rays_per_second: rate(occlusion_batched),
                     closest_hit_batched_rays_per_second: rate(closest_batched),
+                    occlusion_packet_rays_per_second: rate(occlusion_packet),
+                    closest_hit_packet_rays_per_second: rate(closest_packet),
                 });
             }
         });
