@@ -212,7 +212,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "STOPS", allow_negative_numbers = true, value_parser = finite_f32)]
     pub exposure: Option<f32>,
     /// Rendering mode. `final` by default: measured on the Cornell box at 256² against a
-    /// path tracer, 1.7 % block error against 9.2 % for `radiosity`, for a render stage of
+    /// path tracer, 1.9 % block error against 9.2 % for `radiosity`, for a render stage of
     /// seconds rather than a fraction of one (docs/raytracing.md).
     #[arg(long, value_enum, default_value_t = Mode::Final)]
     pub mode: Mode,

@@ -612,7 +612,7 @@ fn the_evaluated_cornell_box_is_within_two_and_a_half_percent_of_a_path_tracer()
     // benches/image/reference/README.md: its own noise ≈ 0.4 % over 4 × 4 blocks), the RMS of
     // the blocks' relative luminance errors. Measured: evaluated 2.18 % (64 samples per pixel, the
     // light evaluated once per pixel and surface), interpolated 8.8 %. (At 256² the evaluated
-    // picture is 1.70 %: this size's blocks are 16 of those pixels.)
+    // picture is 1.94 %: this size's blocks are 16 of those pixels.)
     let reference = radiosity::io::image_file::read_pfm(Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../benches/image/reference/cornell_64.pfm"

@@ -64,12 +64,13 @@ const ELEMENT_GRID: u32 = 4;
 
 /// The reach of the near field, in diameters of the largest element of the receiving patch.
 /// Measured at 256² against Mitsuba 3 (`bench --suite image`, 4 × 4-pixel blocks): reach 2 /
-/// 3 / 4 gave the Cornell box 2.19 / 1.94 / 1.70 % and the furnished room 2.24 % (reach 2) /
-/// 1.79 % (reach 4). At reach 2 the blocks' faces came out 20–48 % too bright over the last
-/// few pixels above the floor, where the floor in their shadow darkens them: the floor
-/// within reach was too little of what they see there. Reach 4 costs about 1.7 times the
-/// render stage of reach 2, with [`near_factor`]'s point kernel for the farther nodes.
-const NEAR_REACH: f32 = 4.0;
+/// 3 / 4 gave the Cornell box 2.19 / 1.94 / 1.70 % and the furnished room 2.24 / 1.95 /
+/// 1.79 %. At reach 2 the blocks' faces came out 20–48 % too bright over the last few pixels
+/// above the floor, where the floor in their shadow darkens them: the floor within reach was
+/// too little of what they see there. The cost grows with the nodes within reach, most on
+/// detailed meshes: the teapot's render stage took 13.7 / 19.9 / 35.8 s at reach 2 / 3 / 4
+/// (256², loaded machine); 3 keeps both image scenes within 2 %.
+const NEAR_REACH: f32 = 3.0;
 
 /// The far part's radiosity is divided by the share of the view left to it; never by less.
 const MIN_FAR_SHARE: f64 = 0.05;
@@ -172,24 +173,30 @@ impl NearField {
             min: point - Vec3::splat(reach),
             max: point + Vec3::splat(reach),
         };
-        let mut seen: Vec<u32> = Vec::new();
-        let (mut sum, mut share) = (Rgb::ZERO, 0.0);
+        // The nodes within reach (a node's two triangles may both be found: sorted and
+        // deduplicated, in node order, so the sum does not depend on the traversal).
+        let mut near: Vec<u32> = Vec::new();
         self.bvh.overlapping(&query, |t| {
             let e = self.owner[t];
-            if seen.contains(&e) {
-                return;
+            let face = &mesh.nodes[self.nodes[e as usize] as usize].face;
+            if face.centroid().distance(point) < reach {
+                near.push(e);
             }
-            seen.push(e);
+        });
+        near.sort_unstable();
+        near.dedup();
+        let (mut sum, mut share) = (Rgb::ZERO, 0.0);
+        for e in near {
             let face = &mesh.nodes[self.nodes[e as usize] as usize].face;
             let d = face.centroid().distance(point) / reach;
             let w = f64::from((2.0 - 2.0 * d).clamp(0.0, 1.0));
             if w <= 0.0 {
-                return;
+                continue;
             }
             let f = near_factor(mesh, self.nodes[e as usize], point, normal);
             sum += self.reflected[e as usize] * (w * f);
             share += w * f;
-        });
+        }
         (sum, share.min(1.0))
     }
 }
