@@ -37,6 +37,7 @@ use super::isa;
 use super::node::{is_leaf, leaf_range, RAYS, WIDTH};
 use super::packet::LANES;
 use super::ray::{Hit, Ray};
+use super::traverse::slabs;
 use glam::Vec3;
 
 /// Rays per packet (4 and 16 measured against 8: see `benches/README.md`).
@@ -104,24 +105,11 @@ impl Rays {
         };
         for (r, (ray, &t)) in rays.iter().zip(t_max).enumerate() {
             let d = ray.dir;
-            // The one-ray query's 1/d (`traverse::Walk::new`): a zero component becomes
-            // ±10⁻²⁰, its sign kept.
-            let safe = |x: f32| {
-                if x.abs() < 1e-20 {
-                    1e-20f32.copysign(x)
-                } else {
-                    x
-                }
-            };
-            let inv = Vec3::new(1.0 / safe(d.x), 1.0 / safe(d.y), 1.0 / safe(d.z));
+            let (inv, near) = slabs(d);
             p.o[r] = ray.origin;
             p.d[r] = d;
             p.inv[r] = inv;
-            p.near[r] = [
-                usize::from(inv.x < 0.0),
-                2 + usize::from(inv.y < 0.0),
-                4 + usize::from(inv.z < 0.0),
-            ];
+            p.near[r] = near;
             p.best_t[r] = t;
             for a in 0..3 {
                 p.o_soa[a][r] = ray.origin[a];
@@ -222,23 +210,7 @@ impl Bvh {
     /// # Panics
     /// When the three slices differ in length.
     pub fn closest_hits_coherent(&self, rays: &[Ray], t_max: &[f32], out: &mut [Option<Hit>]) {
-        assert!(rays.len() == t_max.len() && rays.len() == out.len());
-        isa::run(
-            #[inline(always)]
-            || {
-                for ((rays, t_max), out) in rays
-                    .chunks(PACKET)
-                    .zip(t_max.chunks(PACKET))
-                    .zip(out.chunks_mut(PACKET))
-                {
-                    if self.stack_need < SHALLOW_STACK {
-                        self.packet::<_, false, SHALLOW_STACK>(rays, t_max, out, |o, h| *o = h);
-                    } else {
-                        self.packet::<_, false, DEEP_STACK>(rays, t_max, out, |o, h| *o = h);
-                    }
-                }
-            },
-        );
+        self.packets::<_, false>(rays, t_max, out, |o, h| *o = h);
     }
 
     /// [`Bvh::occluded`] of every ray k of `rays` with t in (0, `t_max[k]`), written to
@@ -248,6 +220,19 @@ impl Bvh {
     /// # Panics
     /// When the three slices differ in length.
     pub fn occluded_coherent(&self, rays: &[Ray], t_max: &[f32], out: &mut [bool]) {
+        self.packets::<_, true>(rays, t_max, out, |o, h| *o = h.is_some());
+    }
+
+    /// Both queries: `rays` cut into packets of [`PACKET`] consecutive ones, each traced with
+    /// the stack the hierarchy's depth needs, under the instruction set in effect.
+    #[inline(always)]
+    fn packets<T, const ANY: bool>(
+        &self,
+        rays: &[Ray],
+        t_max: &[f32],
+        out: &mut [T],
+        done: impl Fn(&mut T, Option<Hit>) + Copy,
+    ) {
         assert!(rays.len() == t_max.len() && rays.len() == out.len());
         isa::run(
             #[inline(always)]
@@ -258,13 +243,9 @@ impl Bvh {
                     .zip(out.chunks_mut(PACKET))
                 {
                     if self.stack_need < SHALLOW_STACK {
-                        self.packet::<_, true, SHALLOW_STACK>(rays, t_max, out, |o, h| {
-                            *o = h.is_some();
-                        });
+                        self.packet::<_, ANY, SHALLOW_STACK>(rays, t_max, out, done);
                     } else {
-                        self.packet::<_, true, DEEP_STACK>(rays, t_max, out, |o, h| {
-                            *o = h.is_some();
-                        });
+                        self.packet::<_, ANY, DEEP_STACK>(rays, t_max, out, done);
                     }
                 }
             },

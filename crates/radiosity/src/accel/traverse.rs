@@ -62,6 +62,28 @@ struct Walk {
     cur: u32,
 }
 
+/// What the slab tests of a ray of direction `d` need: 1/d (a zero component becomes ±10⁻²⁰,
+/// its sign kept, so that 1/d is finite), and for each axis the index of the near plane among
+/// a box's six (min x, max x, min y, …): the max plane where the ray runs backwards. Shared by
+/// the one-ray walk and the packets of [`super::coherent`], which must agree bit for bit.
+#[inline(always)]
+pub(super) fn slabs(d: Vec3) -> (Vec3, [usize; 3]) {
+    let safe = |x: f32| {
+        if x.abs() < 1e-20 {
+            1e-20f32.copysign(x)
+        } else {
+            x
+        }
+    };
+    let inv = Vec3::new(1.0 / safe(d.x), 1.0 / safe(d.y), 1.0 / safe(d.z));
+    let near = [
+        usize::from(inv.x < 0.0),
+        2 + usize::from(inv.y < 0.0),
+        4 + usize::from(inv.z < 0.0),
+    ];
+    (inv, near)
+}
+
 /// Subtrees still to visit, with their entry distances.
 type Stack<const STACK: usize> = [(u32, f32); STACK];
 
@@ -70,24 +92,12 @@ impl Walk {
     #[inline(always)]
     fn new(ray: &Ray, t_max: f32, bvh: &Bvh) -> Self {
         let d = ray.dir;
-        // A zero direction component becomes ±10⁻²⁰ (its sign kept): 1/d is finite.
-        let safe = |x: f32| {
-            if x.abs() < 1e-20 {
-                1e-20f32.copysign(x)
-            } else {
-                x
-            }
-        };
-        let inv = Vec3::new(1.0 / safe(d.x), 1.0 / safe(d.y), 1.0 / safe(d.z));
+        let (inv, near) = slabs(d);
         Self {
             o: ray.origin,
             d,
             inv,
-            near: [
-                usize::from(inv.x < 0.0),
-                2 + usize::from(inv.y < 0.0),
-                4 + usize::from(inv.z < 0.0),
-            ],
+            near,
             best_t: t_max,
             best: None,
             sp: 0,
