@@ -175,20 +175,20 @@ impl NearField {
         };
         // The nodes within reach (a node's two triangles may both be found: sorted and
         // deduplicated, in node order, so the sum does not depend on the traversal).
-        let mut near: Vec<u32> = Vec::new();
+        let mut near: Vec<(u32, f32)> = Vec::new();
         self.bvh.overlapping(&query, |t| {
             let e = self.owner[t];
             let face = &mesh.nodes[self.nodes[e as usize] as usize].face;
-            if face.centroid().distance(point) < reach {
-                near.push(e);
+            let distance = face.centroid().distance(point);
+            if distance < reach {
+                near.push((e, distance));
             }
         });
-        near.sort_unstable();
-        near.dedup();
+        near.sort_unstable_by_key(|&(e, _)| e);
+        near.dedup_by_key(|&mut (e, _)| e);
         let (mut sum, mut share) = (Rgb::ZERO, 0.0);
-        for e in near {
-            let face = &mesh.nodes[self.nodes[e as usize] as usize].face;
-            let d = face.centroid().distance(point) / reach;
+        for (e, distance) in near {
+            let d = distance / reach;
             let w = f64::from((2.0 - 2.0 * d).clamp(0.0, 1.0));
             if w <= 0.0 {
                 continue;
@@ -515,10 +515,7 @@ vertices = [[-0.1, 2, -0.1], [0.1, 2, -0.1], [0.1, 2, 0.1], [-0.1, 2, 0.1]]
             // The first grid alone, as before the penumbra refinement.
             let l = &luminaires.list[0];
             let origin = point.as_vec3() + Vec3::Y * world.epsilon();
-            let coarse = l.visible(&world, origin, Vec3::Y, 4, &mut sampler)
-                * std::f64::consts::PI
-                * 10.0
-                * point_to_polygon(point, DVec3::Y, &light(-0.1));
+            let coarse = l.visible(&world, origin, Vec3::Y, 4, &mut sampler) * full;
             worst_coarse = worst_coarse.max((coarse - exact).abs() / full);
         }
         println!(
