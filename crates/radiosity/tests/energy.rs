@@ -73,3 +73,27 @@ fn every_face_emitting_gives_uniform_radiosity() {
         }
     }
 }
+
+#[test]
+fn coarse_sources_opened_near_each_receiver_match_the_element_solution() {
+    // A closed cube lit by its floor: the walls are bright at the bottom and dark at the top,
+    // so a coarse source's mean misstates what reaches a receiver next to it. Each receiver
+    // opens its near sources (solve::near_sources), so 96 sources of 16 elements each give
+    // the element-to-element solution: measured 0.053 % at worst (0.21 % with a reach of 2
+    // diameters instead of 4), against 5.6 % when no source is opened.
+    let scene = testing::closed_cube(0.5, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    let fine = Prepared::new(&scene, Subdivision::Elements(1536), 10_000);
+    let coarse = Prepared::new(&scene, Subdivision::Elements(1536), 96);
+    assert_eq!(coarse.sources.len(), 96);
+    let exact = solve_with(&fine.geometry(), Method::GaussSeidel).radiosity;
+    // Progressive refinement shoots columns of the shared sources and opens none (8.9 % here).
+    for method in [Method::Jacobi, Method::GaussSeidel] {
+        let b = solve_with(&coarse.geometry(), method).radiosity;
+        let worst = b
+            .iter()
+            .zip(&exact)
+            .map(|(b, x)| ((*b - *x).abs() / *x).max_element())
+            .fold(0.0, f64::max);
+        assert!(worst < 0.002, "{method}: {worst}");
+    }
+}

@@ -8,11 +8,13 @@
 //! 1985 solve their system this way). It converges for the same reason as Jacobi, in about half
 //! the sweeps. The mean radiosity of the source that contains the updated element is kept
 //! current incrementally, and recomputed exactly at the start of every sweep so rounding does
-//! not accumulate. A sweep is sequential, hence deterministic.
+//! not accumulate. The pieces of the sources a receiver opened ([`super::near_sources`]) shine
+//! the means of the sweep's start (a Jacobi step for that part: the same fixed point, a sweep or
+//! two more). A sweep is sequential, hence deterministic.
 
 use super::checkpoint::Session;
 use super::gathering;
-use super::jacobi::{gather, sweeps};
+use super::jacobi::sweeps;
 use super::matrix::Matrix;
 use super::solver::{Job, Solver};
 use super::{l1, Run, Settings, Solution, SolveError, System};
@@ -36,16 +38,16 @@ pub(super) fn run(
     session: &mut Session,
     progress: &dyn Progress,
 ) -> Run {
-    sweeps(system, settings, session, progress, |b, means| {
+    sweeps(system, settings, session, progress, |b, shine| {
         let mut moved = 0.0;
         for (e, value) in b.iter_mut().enumerate() {
-            let new = system.emission[e] + system.reflectance[e] * gather(matrix.row(e), means);
+            let new = system.emission[e] + system.reflectance[e] * system.gather(matrix, e, shine);
             let delta = new - *value;
             *value = new;
             moved += system.area[e] * l1(delta);
             let s = system.source_of[e] as usize;
             if system.source_area[s] > 0.0 {
-                means[s] += delta * (system.area[e] / system.source_area[s]);
+                shine.sources[s] += delta * (system.area[e] / system.source_area[s]);
             }
         }
         moved / system.emitted

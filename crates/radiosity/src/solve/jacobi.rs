@@ -15,7 +15,7 @@ use super::checkpoint::{Iterate, Session};
 use super::gathering;
 use super::matrix::Matrix;
 use super::solver::{Job, Solver};
-use super::{Run, Settings, Solution, SolveError, System};
+use super::{Run, Settings, Shine, Solution, SolveError, System};
 use crate::progress::Progress;
 use crate::Rgb;
 
@@ -29,9 +29,9 @@ pub(super) fn run(
     progress: &dyn Progress,
 ) -> Run {
     let mut next = vec![Rgb::ZERO; system.emission.len()];
-    sweeps(system, settings, session, progress, |b, means| {
+    sweeps(system, settings, session, progress, |b, shine| {
         next.par_iter_mut().enumerate().for_each(|(e, out)| {
-            *out = system.emission[e] + system.reflectance[e] * gather(matrix.row(e), means);
+            *out = system.emission[e] + system.reflectance[e] * system.gather(matrix, e, shine);
         });
         let residual = system.residual(b, &next);
         std::mem::swap(b, &mut next);
@@ -49,30 +49,30 @@ impl Solver for Jacobi {
 }
 
 /// The loop both gathering solvers share: start from B = E or the session's checkpoint, and
-/// until converged, stopped or out of iterations, recompute the source means exactly and run
-/// `sweep(B, means)`, which updates B and returns the sweep's residual; record the history and
+/// until converged, stopped or out of iterations, recompute what the sources shine exactly and
+/// run `sweep(B, shine)`, which updates B and returns the sweep's residual; record the history and
 /// report to the session and `progress` after each sweep.
 pub(super) fn sweeps(
     system: &System,
     settings: &Settings,
     session: &mut Session,
     progress: &dyn Progress,
-    mut sweep: impl FnMut(&mut Vec<Rgb>, &mut [Rgb]) -> f64,
+    mut sweep: impl FnMut(&mut Vec<Rgb>, &mut Shine) -> f64,
 ) -> Run {
     // A checkpoint of the form-factor stage holds no sweep yet: start as afresh.
     let (mut b, mut iterations, mut residual) = match session.resume() {
         Some(it) if it.iterations > 0 => (it.radiosity, it.iterations, it.residual),
         _ => (system.emission.clone(), 0, 1.0),
     };
-    let mut means = vec![Rgb::ZERO; system.source_area.len()];
+    let mut shine = Shine::default();
     let (start, mut history, mut interrupted) = (std::time::Instant::now(), Vec::new(), false);
     while iterations < settings.max_iterations && residual >= settings.tolerance {
         if session.stopped() {
             interrupted = true;
             break;
         }
-        system.source_means(&b, &mut means);
-        residual = sweep(&mut b, &mut means);
+        system.shine(&b, &mut shine);
+        residual = sweep(&mut b, &mut shine);
         iterations += 1;
         history.push(super::Sample {
             iteration: iterations,
@@ -102,11 +102,4 @@ pub(super) fn iterate(b: &[Rgb], iterations: usize, residual: f64) -> Iterate {
         radiosity: b.to_vec(),
         ..Iterate::default()
     }
-}
-
-/// Σ_s F_s B̄_s for one row.
-pub(super) fn gather(row: &[f32], means: &[Rgb]) -> Rgb {
-    row.iter()
-        .zip(means)
-        .fold(Rgb::ZERO, |acc, (&f, &m)| acc + m * f64::from(f))
 }

@@ -1,5 +1,6 @@
 //! The stored form-factor matrix of the gathering solvers: one row of F_{e→s} per element (the
-//! receivers), one column per source, `f32`, row-major.
+//! receivers), one column per source, `f32`, row-major; and for each row the pieces of the
+//! sources it opened in its near field ([`super::near_sources`]), a few per row.
 //!
 //! Its size, elements × sources × 4 bytes, is checked against the limit *before* anything is
 //! allocated, and the allocation itself is fallible, so a scene too large for memory is a
@@ -11,6 +12,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
+use super::near_sources::{self, Piece, Scratch};
 use super::SolveError;
 use crate::formfactor::{FormFactors, Geometry};
 use crate::progress::Progress;
@@ -26,19 +28,52 @@ pub(super) const CHUNK_ROWS: usize = 16;
 pub struct Matrix {
     sources: usize,
     data: Arc<Vec<f32>>,
+    /// The opened pieces of every row.
+    near: Arc<Near>,
     /// Whether each chunk of rows is computed.
     done: Vec<bool>,
 }
 
-/// Scales a row whose sum exceeds 1 down to 1: an element cannot see more than its hemisphere.
+/// The opened pieces of every row, row after row: those of row e are
+/// `pieces[start[e]..start[e + 1]]`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(super) struct Near {
+    pub start: Vec<usize>,
+    pub pieces: Vec<Piece>,
+}
+
+impl Near {
+    /// From each row's pieces, in row order.
+    pub fn from_rows(rows: impl IntoIterator<Item = Vec<Piece>>) -> Self {
+        let mut near = Self {
+            start: vec![0],
+            pieces: Vec::new(),
+        };
+        for row in rows {
+            near.pieces.extend(row);
+            near.start.push(near.pieces.len());
+        }
+        near
+    }
+
+    /// The pieces of row `e`.
+    pub fn row(&self, e: usize) -> &[Piece] {
+        &self.pieces[self.start[e]..self.start[e + 1]]
+    }
+}
+
+/// Scales a row (its shared sources and its opened pieces) whose sum exceeds 1 down to 1: an
+/// element cannot see more than its hemisphere.
 /// The quadrature of each factor is accurate to ~10⁻³, but next to contact lines, where a
 /// receiver's few points see a touching surface's steep kernel, rows came to sum a little above
 /// one and a closed furnished room absorbed 1.004 times the power it emits.
-fn cap_at_hemisphere(row: &mut [f32]) {
-    let sum: f64 = row.iter().map(|&f| f64::from(f)).sum();
+fn cap_at_hemisphere(row: &mut [f32], pieces: &mut [Piece]) {
+    let sum: f64 = row.iter().map(|&f| f64::from(f)).sum::<f64>()
+        + pieces.iter().map(|p| f64::from(p.factor)).sum::<f64>();
     if sum > 1.0 {
         let scale = (1.0 / sum) as f32;
         row.iter_mut().for_each(|f| *f *= scale);
+        pieces.iter_mut().for_each(|p| p.factor *= scale);
     }
 }
 
@@ -82,33 +117,49 @@ impl Matrix {
         let mut data = Self::zeros(rows, sources, limit)?;
         let prior = prior.filter(|p| p.shape() == (rows, sources));
         progress.start("form factors", rows as u64);
-        let done = if sources > 0 {
+        let chunks: Vec<Option<Vec<Vec<Piece>>>> = if sources > 0 {
             data.par_chunks_mut(CHUNK_ROWS * sources)
                 .enumerate()
                 .map(|(chunk, block)| {
                     let first = chunk * CHUNK_ROWS;
-                    if let Some(prior) = prior.filter(|p| p.done[chunk]) {
+                    let rows = block.len() / sources;
+                    let near = if let Some(prior) = prior.filter(|p| p.done[chunk]) {
                         block.copy_from_slice(&prior.data[first * sources..][..block.len()]);
+                        (first..first + rows)
+                            .map(|e| prior.near.row(e).to_vec())
+                            .collect()
                     } else {
                         if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
-                            return false;
+                            return None;
                         }
+                        let mut scratch = Scratch::default();
+                        let mut near = Vec::with_capacity(rows);
                         for (k, row) in block.chunks_mut(sources).enumerate() {
-                            ff.row(g, first + k, row);
-                            cap_at_hemisphere(row);
+                            let mut pieces = Vec::new();
+                            near_sources::row(g, ff, first + k, row, &mut pieces, &mut scratch);
+                            cap_at_hemisphere(row, &mut pieces);
+                            near.push(pieces);
                         }
-                    }
-                    progress.advance((block.len() / sources) as u64);
-                    true
+                        near
+                    };
+                    progress.advance(rows as u64);
+                    Some(near)
                 })
                 .collect()
         } else {
-            vec![true; rows.div_ceil(CHUNK_ROWS)]
+            vec![Some(vec![Vec::new(); CHUNK_ROWS]); rows.div_ceil(CHUNK_ROWS)]
         };
         progress.finish();
+        let done = chunks.iter().map(Option::is_some).collect();
+        let near = Near::from_rows((0..rows).map(|e| {
+            chunks[e / CHUNK_ROWS]
+                .as_ref()
+                .map_or_else(Vec::new, |c| c[e % CHUNK_ROWS].clone())
+        }));
         Ok(Self {
             sources,
             data: Arc::new(data),
+            near: Arc::new(near),
             done,
         })
     }
@@ -152,29 +203,60 @@ impl Matrix {
         &self.data
     }
 
+    /// The opened pieces of every row (none in chunks not done).
+    pub(super) fn near(&self) -> &Near {
+        &self.near
+    }
+
     /// A matrix read back from a checkpoint: `data` holds every row, zero where `done` is
-    /// false. `None` when the lengths disagree.
-    pub(super) fn from_parts(sources: usize, data: Vec<f32>, done: Vec<bool>) -> Option<Self> {
+    /// false, and `near` the pieces of every row. `None` when the lengths disagree.
+    pub(super) fn from_parts(
+        sources: usize,
+        data: Vec<f32>,
+        near: Near,
+        done: Vec<bool>,
+    ) -> Option<Self> {
         let rows = data.len().checked_div(sources).unwrap_or(0);
-        let consistent =
-            data.len().is_multiple_of(sources.max(1)) && done.len() == rows.div_ceil(CHUNK_ROWS);
+        let consistent = data.len().is_multiple_of(sources.max(1))
+            && done.len() == rows.div_ceil(CHUNK_ROWS)
+            && near.start.len() == rows + 1
+            && near.start.last() == Some(&near.pieces.len())
+            && near.start.windows(2).all(|w| w[0] <= w[1]);
         consistent.then(|| Self {
             sources,
             data: Arc::new(data),
+            near: Arc::new(near),
             done,
         })
     }
 
-    /// Row `element`: F from that element to every source.
+    /// Row `element`: F from that element to every source (zero for the sources it opened).
     #[must_use]
     pub fn row(&self, element: usize) -> &[f32] {
         &self.data[element * self.sources..(element + 1) * self.sources]
     }
 
-    /// Number of non-zero form factors.
+    /// The pieces of the sources that row `element` opened, with their factors.
+    #[must_use]
+    pub fn pieces(&self, element: usize) -> &[Piece] {
+        self.near.row(element)
+    }
+
+    /// Σ F of row `element`, shared sources and opened pieces.
+    #[must_use]
+    pub fn row_sum(&self, element: usize) -> f64 {
+        self.row(element).iter().map(|&f| f64::from(f)).sum::<f64>()
+            + self
+                .pieces(element)
+                .iter()
+                .map(|p| f64::from(p.factor))
+                .sum::<f64>()
+    }
+
+    /// Number of non-zero form factors (opened pieces included).
     #[must_use]
     pub fn links(&self) -> u64 {
-        self.data.iter().filter(|&&f| f != 0.0).count() as u64
+        (self.data.iter().filter(|&&f| f != 0.0).count() + self.near.pieces.len()) as u64
     }
 }
 
@@ -184,16 +266,20 @@ mod tests {
 
     #[test]
     fn rows_above_one_are_scaled_to_one_others_kept() {
-        let mut over = [0.5f32, 0.4, 0.3];
-        cap_at_hemisphere(&mut over);
-        let sum: f32 = over.iter().sum();
+        let mut over = [0.5f32, 0.4, 0.2];
+        let mut pieces = [Piece {
+            elements: 0..2,
+            factor: 0.1,
+        }];
+        cap_at_hemisphere(&mut over, &mut pieces);
+        let sum: f32 = over.iter().sum::<f32>() + pieces[0].factor;
         assert!((sum - 1.0).abs() < 1e-6, "{over:?}");
         assert!(
-            (over[0] / over[2] - 0.5 / 0.3).abs() < 1e-5,
+            (over[0] / pieces[0].factor - 0.5 / 0.1).abs() < 1e-4,
             "proportions kept"
         );
         let mut under = [0.5f32, 0.2, 0.1];
-        cap_at_hemisphere(&mut under);
+        cap_at_hemisphere(&mut under, &mut []);
         assert_eq!(under, [0.5, 0.2, 0.1]);
     }
 }

@@ -49,6 +49,7 @@ pub mod gauss_seidel;
 pub mod hierarchical;
 pub mod jacobi;
 pub mod matrix;
+pub mod near_sources;
 pub mod plan;
 pub mod progressive;
 mod solver;
@@ -98,8 +99,9 @@ pub struct Settings {
     /// Largest form-factor matrix the gathering solvers may allocate, in bytes.
     pub max_matrix_bytes: u64,
     /// Most sources the caller should cut the quadtrees into ([`crate::mesh::Mesh::sources`]);
-    /// the matrix is elements × sources.
-    pub max_sources: usize,
+    /// the matrix is elements × sources. `None` for the automatic count
+    /// ([`plan::automatic_sources`]).
+    pub max_sources: Option<usize>,
     /// Hierarchical solver: a link is refined while it moves more than this fraction of the
     /// emitted power; positive ([`DEFAULT_EPSILON`] by default).
     pub epsilon: f64,
@@ -114,7 +116,7 @@ pub const DEFAULT_EPSILON: f64 = 1e-4;
 
 impl Default for Settings {
     /// Gauss-Seidel to a residual of 10⁻⁴, a 1 GiB matrix at most (16 384² form factors) and
-    /// 4096 sources. Measured on the built-in Cornell box at 3792 elements with the default
+    /// the automatic number of sources. Measured on the built-in Cornell box at 3792 elements with the default
     /// form factors (release build, 2 threads): Gauss-Seidel takes 9 sweeps (0.13 s) and
     /// Jacobi 15 (0.21 s) after 19 s of form factors; progressive refinement needs 23 654 shots
     /// and 121 s to reach the same residual, because it recomputes a column per shot and must
@@ -125,7 +127,7 @@ impl Default for Settings {
             tolerance: 1e-4,
             max_iterations: 100_000,
             max_matrix_bytes: 1 << 30,
-            max_sources: 8192,
+            max_sources: None,
             epsilon: DEFAULT_EPSILON,
             min_element_area: None,
         }
@@ -347,6 +349,10 @@ pub(crate) struct System {
     /// Emitted power of each source's buried parts, Σ A_e (1 − u_e) E_e, which its open part
     /// does not shine.
     hidden_emission: Vec<Rgb>,
+    /// The open area Σ A_e u_e and the hidden emission Σ A_e (1 − u_e) E_e of the elements
+    /// before each element (and of all of them, last): an opened piece's are differences.
+    open_before: Vec<f64>,
+    hidden_before: Vec<Rgb>,
     /// Σ A ‖E‖₁, the denominator of the residual.
     emitted: f64,
 }
@@ -384,6 +390,8 @@ impl System {
             source_elements,
             source_area: Vec::new(),
             hidden_emission: Vec::new(),
+            open_before: Vec::new(),
+            hidden_before: Vec::new(),
             emitted,
         };
         system.weigh_sources();
@@ -393,10 +401,10 @@ impl System {
     /// H_e = Σ_s F_es B̄_s for every element, with the source means of `b`: the light each
     /// element gathers from the solution `b` through the matrix the solve used.
     fn irradiance(&self, matrix: &matrix::Matrix, b: &[Rgb]) -> Vec<Rgb> {
-        let mut means = vec![Rgb::ZERO; self.source_area.len()];
-        self.source_means(b, &mut means);
+        let mut shine = Shine::default();
+        self.shine(b, &mut shine);
         (0..b.len())
-            .map(|e| jacobi::gather(matrix.row(e), &means))
+            .map(|e| self.gather(matrix, e, &shine))
             .collect()
     }
 
@@ -417,6 +425,9 @@ impl System {
                     .sum()
             })
             .collect();
+        self.open_before = running_sum((0..area.len()).map(|e| area[e] * exposure[e]));
+        self.hidden_before =
+            running_sum((0..area.len()).map(|e| emission[e] * (area[e] * (1.0 - exposure[e]))));
     }
 
     /// Reads the elements' exposure for gathering: the probes of
@@ -431,7 +442,7 @@ impl System {
     fn bury(&mut self, g: &Geometry, matrix: &matrix::Matrix) {
         let probed = crate::formfactor::exposure::exposure(g);
         for (e, u) in self.exposure.iter_mut().enumerate() {
-            let row: f64 = matrix.row(e).iter().map(|&f| f64::from(f)).sum();
+            let row = matrix.row_sum(e);
             *u = if self.emission[e] == Rgb::ZERO && row == 0.0 {
                 0.0
             } else {
@@ -441,26 +452,55 @@ impl System {
         self.weigh_sources();
     }
 
-    /// The radiosity each source shines from its open part, into `out`: with B the
-    /// whole-area means of its elements (E on their buried parts),
+    /// What the sources shine with the radiosities `b`, into `out`: the radiosity each shared
+    /// source shines from its open part, with B the whole-area means of its elements (E on
+    /// their buried parts),
     ///
     /// ```text
     /// B̄_s = (Σ_e A_e B_e − Σ_e A_e (1 − u_e) E_e) / Σ_e A_e u_e ,
     /// ```
     ///
     /// the substructuring mean of Cohen et al. 1986 taken over the open area only (see
-    /// [`crate::formfactor::exposure`]). In parallel; each mean is a sequential sum, so the
+    /// [`crate::formfactor::exposure`]); and the running sums of A_e B_e from which the same
+    /// mean of an opened piece is read. Means in parallel, each a sequential sum, so the
     /// result does not depend on the thread count.
-    fn source_means(&self, b: &[Rgb], out: &mut [Rgb]) {
-        out.par_iter_mut().enumerate().for_each(|(s, mean)| {
-            let range = self.source_elements[s].clone();
-            let sum: Rgb = range.map(|e| b[e] * self.area[e]).sum();
-            *mean = if self.source_area[s] > 0.0 {
-                (sum - self.hidden_emission[s]) / self.source_area[s]
+    fn shine(&self, b: &[Rgb], out: &mut Shine) {
+        out.sources.resize(self.source_area.len(), Rgb::ZERO);
+        out.sources
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(s, mean)| {
+                let range = self.source_elements[s].clone();
+                let sum: Rgb = range.map(|e| b[e] * self.area[e]).sum();
+                *mean = if self.source_area[s] > 0.0 {
+                    (sum - self.hidden_emission[s]) / self.source_area[s]
+                } else {
+                    Rgb::ZERO
+                };
+            });
+        out.before = running_sum(b.iter().zip(&self.area).map(|(&b, &a)| b * a));
+    }
+
+    /// H_e = Σ_s F_es B̄_s + Σ_p F_ep B̄_p: the light element `e` gathers from the shared
+    /// sources and from the pieces of those it opened.
+    fn gather(&self, matrix: &matrix::Matrix, e: usize, shine: &Shine) -> Rgb {
+        let shared = matrix
+            .row(e)
+            .iter()
+            .zip(&shine.sources)
+            .fold(Rgb::ZERO, |acc, (&f, &m)| acc + m * f64::from(f));
+        matrix.pieces(e).iter().fold(shared, |acc, p| {
+            let (a, b) = (p.elements.start as usize, p.elements.end as usize);
+            let open = self.open_before[b] - self.open_before[a];
+            if open > 0.0 {
+                let power = shine.before[b]
+                    - shine.before[a]
+                    - (self.hidden_before[b] - self.hidden_before[a]);
+                acc + power * (f64::from(p.factor) / open)
             } else {
-                Rgb::ZERO
-            };
-        });
+                acc
+            }
+        })
     }
 
     /// The residual of a change from `old` to `new`: Σ A ‖new − old‖₁ / Σ A ‖E‖₁.
@@ -473,6 +513,28 @@ impl System {
             .sum();
         sum / self.emitted
     }
+}
+
+/// What the sources shine in a sweep ([`System::shine`]).
+#[derive(Debug, Default)]
+pub(crate) struct Shine {
+    /// The mean radiosity each shared source shines from its open part.
+    pub sources: Vec<Rgb>,
+    /// Σ A_e B_e over the elements before each element (and over all, last).
+    pub before: Vec<Rgb>,
+}
+
+/// The sums of `x` before each item, and of all of them last.
+fn running_sum<T: Copy + Default + std::ops::Add<Output = T>>(
+    x: impl Iterator<Item = T>,
+) -> Vec<T> {
+    let mut sum = T::default();
+    let mut out = vec![sum];
+    for v in x {
+        sum = sum + v;
+        out.push(sum);
+    }
+    out
 }
 
 /// Σ A ‖x‖₁.
@@ -546,9 +608,9 @@ mod tests {
                 }
             })
             .collect();
-        let mut means = vec![Rgb::ZERO; system.source_area.len()];
-        gathering.source_means(&b, &mut means);
-        for (s, m) in means.iter().enumerate() {
+        let mut shine = Shine::default();
+        gathering.shine(&b, &mut shine);
+        for (s, m) in shine.sources.iter().enumerate() {
             if gathering.source_area[s] > 0.0 {
                 assert!((*m - Rgb::ONE).abs().max_element() < 1e-12);
             }

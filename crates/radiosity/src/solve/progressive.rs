@@ -31,7 +31,7 @@ use std::time::Instant;
 
 use super::checkpoint::{Iterate, Session};
 use super::solver::{Job, Solver};
-use super::{l1, Settings, Solution, SolveError, System};
+use super::{l1, Settings, Shine, Solution, SolveError, System};
 use crate::formfactor::{FormFactors, Geometry};
 use crate::progress::Progress;
 use crate::Rgb;
@@ -104,8 +104,9 @@ pub(super) fn run(
             it.links,
         ),
         None => {
-            let mut unshot = vec![Rgb::ZERO; system.source_area.len()];
-            system.source_means(&system.emission, &mut unshot);
+            let mut shine = Shine::default();
+            system.shine(&system.emission, &mut shine);
+            let unshot = shine.sources;
             let h = vec![Rgb::ZERO; n];
             (system.emission.clone(), h, unshot, 0, 0u64)
         }

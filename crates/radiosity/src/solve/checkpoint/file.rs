@@ -2,11 +2,13 @@
 //! read back is the state written, bit for bit.
 //!
 //! ```text
-//! magic "radiosity-ckpt\n\0"  format u32 (= 2)
+//! magic "radiosity-ckpt\n\0"  format u32 (= 3)
 //! fingerprint u64   method (length u64, UTF-8)   iterations u64   residual f64   links u64
 //! radiosity (count u64, then r g b f64 each)     irradiance, unshot (the same)
 //! matrix:    0u8 | 1u8, sources u64, rows u64, chunk rows u64, done u8 per chunk,
-//!            then the f32 rows of every done chunk, in order
+//!            then the f32 rows of every done chunk, in order; then for every row the
+//!            count u64 of its opened pieces (0 in chunks not done) and the pieces, each
+//!            first element u32, end u32, factor f32
 //! hierarchy: 0u8 | 1u8, then the hierarchical solver's snapshot
 //! ```
 //!
@@ -18,14 +20,15 @@ use std::io::{self, Read, Write};
 
 use super::{Checkpoint, Iterate};
 use crate::solve::hierarchical::Snapshot;
-use crate::solve::matrix::{Matrix, CHUNK_ROWS};
+use crate::solve::matrix::{Matrix, Near, CHUNK_ROWS};
+use crate::solve::near_sources::Piece;
 use crate::Rgb;
 
 /// The first bytes of every checkpoint file.
 const MAGIC: &[u8; 16] = b"radiosity-ckpt\n\0";
 
 /// Version of the format.
-const FORMAT: u32 = 2;
+const FORMAT: u32 = 3;
 
 impl Checkpoint {
     /// Writes the checkpoint to `out` in the format of the module documentation.
@@ -128,6 +131,16 @@ fn write_matrix(e: &mut Encoder, m: &Matrix) -> io::Result<()> {
             e.f32s(block)?;
         }
     }
+    let near = m.near();
+    for row in 0..rows {
+        let pieces = near.row(row);
+        e.usize(pieces.len())?;
+        for p in pieces {
+            e.u32(p.elements.start)?;
+            e.u32(p.elements.end)?;
+            e.f32s(&[p.factor])?;
+        }
+    }
     Ok(())
 }
 
@@ -156,7 +169,26 @@ fn read_matrix(d: &mut Decoder) -> Result<Matrix, String> {
             d.f32s(block)?;
         }
     }
-    Matrix::from_parts(sources, data, done).ok_or_else(|| "damaged checkpoint".to_owned())
+    let mut rows_pieces = allocate::<Vec<Piece>>(rows)?;
+    for _ in 0..rows {
+        let count = d.usize()?;
+        let mut pieces = allocate::<Piece>(count)?;
+        for _ in 0..count {
+            let (start, end) = (d.u32()?, d.u32()?);
+            let mut factor = [0.0];
+            d.f32s(&mut factor)?;
+            if start > end {
+                return Err("damaged checkpoint".to_owned());
+            }
+            pieces.push(Piece {
+                elements: start..end,
+                factor: factor[0],
+            });
+        }
+        rows_pieces.push(pieces);
+    }
+    let near = Near::from_rows(rows_pieces);
+    Matrix::from_parts(sources, data, near, done).ok_or_else(|| "damaged checkpoint".to_owned())
 }
 
 /// An empty vector with room for `n` items, or an error if memory refuses.

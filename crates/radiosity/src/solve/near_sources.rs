@@ -1,0 +1,147 @@
+//! Near sources, opened for each receiver.
+//!
+//! Substructuring (Cohen, Greenberg, Immel & Brock 1986) lets a receiver e gather a coarse
+//! source's area-weighted mean radiosity with one factor, F_es B̄_s. That is exact when the
+//! kernel or the radiosity is uniform over the source, and far from the receiver the kernel
+//! nearly is. Next to the receiver neither holds: a floor element in the corner behind the
+//! Cornell box's tall block gathers most of its light from the two walls' sources beside it,
+//! whose means include their lit upper parts, while the kernel weighs the dark lower parts
+//! most. With 991 sources for 6 082 elements that corner came out +120 % and the floor +6 %.
+//!
+//! So each receiver opens the sources in its near field, the way hierarchical radiosity refines
+//! a link by the distance between its ends (Hanrahan, Salzman & Aupperle 1991): a quadtree node
+//! whose centroid lies within [`REACH`] of its diameter from the receiver's centroid, in front
+//! of the node, is replaced by its four children, recursively. That gives each receiver its own
+//! cut through the quadtrees: the shared sources far away, finer pieces nearby. The row is
+//! computed over that cut by the form-factor method as it is (so every method opens alike), and
+//! split into the dense row over the shared sources (zero where a source was opened) and the
+//! opened pieces, each an element range with its factor: the receiver gathers Σ F_ep B̄_p over
+//! them, with B̄_p the mean of the piece's elements over their open area
+//! ([`super::System`]).
+//!
+//! Pieces depend on the receiver alone, so the matrix stays the same at any thread count.
+
+use std::ops::Range;
+
+use glam::DVec3;
+
+use crate::formfactor::{FormFactors, Geometry};
+use crate::mesh::Mesh;
+
+/// A node is opened for a receiver whose centroid is closer to the node's centroid than this
+/// many of the node's diameters. Measured on `benches/suite` with a quarter of the elements as
+/// sources ([`super::plan::automatic_sources`]; `python3 benches/suite/compare.py`): at 2
+/// diameters the closed-mesh scene's ceiling came out −0.93 % and the furnished room's walls
+/// −1.2 to −1.4 % (every element a source: +0.18 %, +0.61 %); at 4 every scene is where it was
+/// with every element a source, within 0.3 points (docs/validation.md, seventh round).
+pub const REACH: f64 = 4.0;
+
+/// An opened piece of a source: its elements (a range of [`Mesh::elements`]) and the form
+/// factor from the receiver to it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Piece {
+    /// The piece's elements.
+    pub elements: Range<u32>,
+    /// F from the receiver to the piece.
+    pub factor: f32,
+}
+
+/// Reusable buffers for [`row`].
+#[derive(Debug, Default)]
+pub(super) struct Scratch {
+    /// The receiver's cut.
+    cut: Vec<u32>,
+    /// For each node of the cut, the shared source it is, or `None` for an opened piece.
+    shared: Vec<Option<u32>>,
+    /// The row over the receiver's cut.
+    values: Vec<f32>,
+}
+
+/// Row `element` of the matrix: F to every shared source into `out` (zero for a source it
+/// opens), and the opened pieces appended to `pieces`.
+pub(super) fn row(
+    g: &Geometry,
+    ff: &dyn FormFactors,
+    element: usize,
+    out: &mut [f32],
+    pieces: &mut Vec<Piece>,
+    scratch: &mut Scratch,
+) {
+    let mesh = g.mesh;
+    let receiver = mesh.element(element);
+    let at = Receiver {
+        centroid: receiver.face.centroid().as_dvec3(),
+        patch: receiver.patch,
+    };
+    let Scratch {
+        cut,
+        shared,
+        values,
+    } = scratch;
+    cut.clear();
+    shared.clear();
+    let mut opened = false;
+    for (s, &node) in g.sources.iter().enumerate() {
+        if at.opens(mesh, node) {
+            opened = true;
+            open(mesh, &at, node, cut, shared);
+        } else {
+            cut.push(node);
+            shared.push(Some(s as u32));
+        }
+    }
+    if !opened {
+        ff.row(g, element, out);
+        return;
+    }
+    values.clear();
+    values.resize(cut.len(), 0.0);
+    ff.row(&Geometry::new(mesh, g.bvh, cut), element, values);
+    out.fill(0.0);
+    for ((&node, &s), &f) in cut.iter().zip(shared.iter()).zip(values.iter()) {
+        match s {
+            Some(s) => out[s as usize] = f,
+            None if f != 0.0 => pieces.push(Piece {
+                elements: mesh.nodes[node as usize].elements.clone(),
+                factor: f,
+            }),
+            None => {}
+        }
+    }
+}
+
+/// The receiving element, as far as opening goes.
+struct Receiver {
+    centroid: DVec3,
+    patch: u32,
+}
+
+impl Receiver {
+    /// Whether `node` is opened for this receiver: it has children, lies on another patch,
+    /// faces the receiver, and is within [`REACH`] of its diameter.
+    fn opens(&self, mesh: &Mesh, node: u32) -> bool {
+        let n = &mesh.nodes[node as usize];
+        if n.children.is_none() || n.patch == self.patch {
+            return false;
+        }
+        let centroid = n.face.centroid().as_dvec3();
+        let normal = mesh.patches[n.patch as usize].normal.as_dvec3();
+        let offset = self.centroid - centroid;
+        normal.dot(offset) > 0.0 && offset.length() < REACH * f64::from(n.face.diameter())
+    }
+}
+
+/// Pushes the receiver's cut below the opened `node`: each child, or its own cut if opened.
+fn open(mesh: &Mesh, at: &Receiver, node: u32, cut: &mut Vec<u32>, shared: &mut Vec<Option<u32>>) {
+    let first = mesh.nodes[node as usize]
+        .children
+        .expect("opened nodes have children");
+    for child in first..first + 4 {
+        if at.opens(mesh, child) {
+            open(mesh, at, child, cut, shared);
+        } else {
+            cut.push(child);
+            shared.push(None);
+        }
+    }
+}
