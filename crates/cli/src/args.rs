@@ -335,7 +335,7 @@ pub struct MeshArgs {
     /// Most light sources: quadtree nodes that shoot the mean radiosity of their elements
     /// (substructuring); each element opens those in its near field. Sources are the elements
     /// themselves when there are fewer elements; a gathering solver takes more where contact
-    /// lines need them, within --max-memory [default: 2048 to 8192, a quarter of the elements;
+    /// lines need them, within --max-memory [default: 2048 to 8192, half the elements;
     /// 8192 for progressive refinement]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     pub sources: Option<u64>,

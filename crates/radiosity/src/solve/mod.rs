@@ -577,7 +577,7 @@ mod tests {
         let mut gathering = System::new(&g).unwrap();
         gathering.bury(&g, &matrix);
         let dark: Vec<usize> = (0..system.area.len())
-            .filter(|&e| matrix.row(e).iter().all(|&f| f == 0.0))
+            .filter(|&e| matrix.row_sum(e) == 0.0)
             .collect();
         assert!(!dark.is_empty());
         for e in 0..system.area.len() {

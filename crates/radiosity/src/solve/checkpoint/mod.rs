@@ -578,7 +578,7 @@ mod tests {
         );
         let mut future = bytes.clone();
         future[16] += 1;
-        assert!(read(&future).expect_err("refused").contains("format 3"));
+        assert!(read(&future).expect_err("refused").contains("format 4"));
         assert_eq!(
             read(&bytes[..bytes.len() - 1]),
             Err("truncated checkpoint".to_owned())
