@@ -317,7 +317,10 @@ pub(crate) const FAR_FIELD: f64 = 8.0;
 /// alone in the far field ([`FAR_FIELD`]).
 pub(crate) fn unoccluded(receiver: &Receiver, source: &[DVec3]) -> f64 {
     let centre = source.iter().sum::<DVec3>() / source.len() as f64;
-    let radius = source.iter().map(|c| c.distance(centre)).fold(0.0, f64::max);
+    let radius = source
+        .iter()
+        .map(|c| c.distance(centre))
+        .fold(0.0, f64::max);
     if receiver.centroid.distance(centre) - radius > FAR_FIELD * receiver.diameter {
         return analytic::point_to_polygon(receiver.centroid, receiver.normal, source);
     }
