@@ -111,6 +111,8 @@ pub(super) struct NearField {
     nodes: Vec<u32>,
     /// Mean B − E of each node's elements.
     reflected: Vec<Rgb>,
+    /// The centroid, diameter and area of each node's face (computed once: every pixel asks).
+    shapes: Vec<Shape>,
     /// The reach per patch: [`NEAR_REACH`] times its largest element's diameter.
     reach: Vec<f32>,
 }
@@ -124,8 +126,8 @@ impl NearField {
             let r = &mut reach[node.patch as usize];
             *r = r.max(NEAR_REACH * node.face.diameter());
         }
-        let (mut tris, mut owner, mut nodes, mut reflected) =
-            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut tris, mut owner, mut nodes, mut reflected, mut shapes) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for (p, roots) in mesh.roots.iter().enumerate() {
             let mut stack: Vec<u32> = roots.clone().collect();
             while let Some(n) = stack.pop() {
@@ -142,6 +144,11 @@ impl NearField {
                         let k = nodes.len() as u32;
                         nodes.push(n);
                         reflected.push(if area > 0.0 { sum / area } else { Rgb::ZERO });
+                        shapes.push(Shape {
+                            centroid: node.face.centroid(),
+                            diameter: node.face.diameter(),
+                            area: node.face.area(),
+                        });
                         let c = node.face.corners();
                         tris.push([c[0], c[1], c[2]]);
                         owner.push(k);
@@ -158,6 +165,7 @@ impl NearField {
             owner,
             nodes,
             reflected,
+            shapes,
             reach,
         }
     }
@@ -178,8 +186,7 @@ impl NearField {
         let mut near: Vec<(u32, f32)> = Vec::new();
         self.bvh.overlapping(&query, |t| {
             let e = self.owner[t];
-            let face = &mesh.nodes[self.nodes[e as usize] as usize].face;
-            let distance = face.centroid().distance(point);
+            let distance = self.shapes[e as usize].centroid.distance(point);
             if distance < reach {
                 near.push((e, distance));
             }
@@ -193,7 +200,13 @@ impl NearField {
             if w <= 0.0 {
                 continue;
             }
-            let f = near_factor(mesh, self.nodes[e as usize], point, normal);
+            let f = near_factor(
+                mesh,
+                self.nodes[e as usize],
+                &self.shapes[e as usize],
+                point,
+                normal,
+            );
             sum += self.reflected[e as usize] * (w * f);
             share += w * f;
         }
@@ -201,23 +214,29 @@ impl NearField {
     }
 }
 
-/// The form factor from `point` (unit normal `normal`) to the face of `node`: Lambert's exact
+/// A near-field node's face, as the evaluation needs it.
+#[derive(Clone, Copy, Debug)]
+struct Shape {
+    centroid: Vec3,
+    diameter: f32,
+    area: f64,
+}
+
+/// The form factor from `point` (unit normal `normal`) to the face of `node` (`shape`): Lambert's exact
 /// factor within [`EXACT_WITHIN`] diameters of the face, the point-to-area kernel
 /// A cosθ cosθ' / (π r²) beyond, where it is within a few per cent of it and costs a tenth.
-fn near_factor(mesh: &Mesh, node: u32, point: Vec3, normal: Vec3) -> f64 {
+fn near_factor(mesh: &Mesh, node: u32, shape: &Shape, point: Vec3, normal: Vec3) -> f64 {
     let node = &mesh.nodes[node as usize];
     let face = &node.face;
-    let centre = face.centroid();
-    let w = centre - point;
+    let w = shape.centroid - point;
     let r2 = w.length_squared();
-    let diameter = face.diameter();
-    if r2 > (EXACT_WITHIN * diameter).powi(2) {
+    if r2 > (EXACT_WITHIN * shape.diameter).powi(2) {
         let n = mesh.patches[node.patch as usize].normal;
         let (cos_x, cos_y) = (normal.dot(w), -n.dot(w));
         if cos_x <= 0.0 || cos_y <= 0.0 {
             return 0.0;
         }
-        return face.area() * f64::from(cos_x * cos_y / (r2 * r2)) / std::f64::consts::PI;
+        return shape.area * f64::from(cos_x * cos_y / (r2 * r2)) / std::f64::consts::PI;
     }
     let (corners, sides) = face.corners_f64();
     point_to_polygon(point.as_dvec3(), normal.as_dvec3(), &corners[..sides])
