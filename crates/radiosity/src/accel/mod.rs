@@ -28,9 +28,11 @@ pub mod coherent;
 pub mod isa;
 mod node;
 mod packet;
+mod pages;
 pub mod ray;
 mod traverse;
 
+pub use build::BuildSettings;
 pub use bvh::Bvh;
 pub use node::Aabb;
 pub use ray::{Hit, Ray};
