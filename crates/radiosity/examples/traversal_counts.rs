@@ -4,13 +4,11 @@
 //! compiled for SSE2 and for AVX2 (`accel::isa`), interleaved, best of two.
 //!
 //! ```sh
-//! cargo run --release --example traversal_counts --features count -- [SCENE] [RAYS] [BUDGETS]
+//! cargo run --release --example traversal_counts --features count -- [SCENE] [RAYS]
 //! ```
 //!
 //! SCENE is `spheres`, `spheres-open` or `teapot` (default: all); RAYS restricts to the ray
-//! sets whose name starts with it (`inc`, `pri`, `sha`); BUDGETS (a third argument, default
-//! `0,0.3`) are the spatial-split budgets to build with ([`BuildSettings::split_budget`]), each
-//! measured in turn with its SAH cost ([`Bvh::sah_cost`]). Without `--features count` the
+//! sets whose name starts with it (`inc`, `pri`, `sha`). Without `--features count` the
 //! counts print as zero and the timings are those of the plain build.
 
 use std::sync::atomic::Ordering::Relaxed;
@@ -18,7 +16,7 @@ use std::time::Instant;
 
 use radiosity::accel::bench::{self, rays, BenchScene};
 use radiosity::accel::isa::{self, Isa};
-use radiosity::accel::{BuildSettings, Bvh};
+use radiosity::accel::Bvh;
 
 /// Steps and packets counted since the last reset (zero without the `count` feature).
 fn counts(reset: bool) -> (u64, u64) {
@@ -46,12 +44,6 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let only_scene = args.get(1).cloned().unwrap_or_default();
     let only_set = args.get(2).cloned().unwrap_or_default();
-    let budgets: Vec<f32> = args
-        .get(3)
-        .map_or("0,0.3", String::as_str)
-        .split(',')
-        .map(|b| b.parse().expect("BUDGETS: numbers separated by commas"))
-        .collect();
     let makers: [(&str, Maker); 3] = [
         ("spheres", || bench::scenes::sphere_field(TRIANGLES, true)),
         ("spheres-open", || {
@@ -64,71 +56,68 @@ fn main() {
             continue;
         }
         let scene = make();
-        for &split_budget in &budgets {
-            let start = Instant::now();
-            let bvh = Bvh::build_with(&scene.triangles, &BuildSettings { split_budget });
-            println!(
-            "{name}, split budget {split_budget}: {} triangles, build {:.2} s, {:.1} bytes/triangle, \
-             {:.3} references/triangle, SAH cost {:.2}",
+        let start = Instant::now();
+        let bvh = Bvh::build(&scene.triangles);
+        println!(
+            "{name}: {} triangles, build {:.2} s, {:.1} bytes/triangle, SAH cost {:.2}",
             scene.triangles.len(),
             start.elapsed().as_secs_f64(),
             bvh.memory_bytes() as f64 / scene.triangles.len() as f64,
-            bvh.references_per_triangle(),
             bvh.sah_cost()
         );
-            let incoherent = rays::incoherent(&scene.triangles, &bvh, 200_000, 1);
-            let primary = rays::primary(&scene.camera);
-            let shadow = rays::shadow(&scene.triangles, &bvh, &primary, &scene.light, 1);
-            for set in [&incoherent, &primary, &shadow] {
-                if !set.name.starts_with(only_set.as_str()) {
-                    continue;
-                }
-                for any in [true, false] {
-                    let m = set.rays.len() as f64;
-                    let mut best = [f64::INFINITY; 2];
-                    let (mut steps, mut packets) = (0, 0);
-                    for _ in 0..2 {
-                        for (i, choice) in [Isa::Baseline, Isa::Avx2].into_iter().enumerate() {
-                            isa::set(choice);
-                            counts(true);
-                            let start = Instant::now();
-                            let found = set
-                                .rays
-                                .iter()
-                                .zip(&set.t_max)
-                                .filter(|&(r, &t)| {
-                                    if any {
-                                        bvh.occluded(r, t)
-                                    } else {
-                                        bvh.closest_hit(r, t).is_some()
-                                    }
-                                })
-                                .count();
-                            best[i] = best[i].min(start.elapsed().as_secs_f64());
-                            std::hint::black_box(found);
-                            (steps, packets) = counts(false);
-                        }
-                    }
-                    // The same rays in packets of eight (`Bvh::closest_hits_coherent`), AVX2.
-                    let mut best_p = f64::INFINITY;
-                    let (mut steps_p, mut packets_p) = (0, 0);
-                    for _ in 0..2 {
+        let incoherent = rays::incoherent(&scene.triangles, &bvh, 200_000, 1);
+        let primary = rays::primary(&scene.camera);
+        let shadow = rays::shadow(&scene.triangles, &bvh, &primary, &scene.light, 1);
+        for set in [&incoherent, &primary, &shadow] {
+            if !set.name.starts_with(only_set.as_str()) {
+                continue;
+            }
+            for any in [true, false] {
+                let m = set.rays.len() as f64;
+                let mut best = [f64::INFINITY; 2];
+                let (mut steps, mut packets) = (0, 0);
+                for _ in 0..2 {
+                    for (i, choice) in [Isa::Baseline, Isa::Avx2].into_iter().enumerate() {
+                        isa::set(choice);
                         counts(true);
                         let start = Instant::now();
-                        let found = if any {
-                            let mut out = vec![false; set.rays.len()];
-                            bvh.occluded_coherent(&set.rays, &set.t_max, &mut out);
-                            out.iter().filter(|&&o| o).count()
-                        } else {
-                            let mut out = vec![None; set.rays.len()];
-                            bvh.closest_hits_coherent(&set.rays, &set.t_max, &mut out);
-                            out.iter().filter(|o| o.is_some()).count()
-                        };
-                        best_p = best_p.min(start.elapsed().as_secs_f64());
+                        let found = set
+                            .rays
+                            .iter()
+                            .zip(&set.t_max)
+                            .filter(|&(r, &t)| {
+                                if any {
+                                    bvh.occluded(r, t)
+                                } else {
+                                    bvh.closest_hit(r, t).is_some()
+                                }
+                            })
+                            .count();
+                        best[i] = best[i].min(start.elapsed().as_secs_f64());
                         std::hint::black_box(found);
-                        (steps_p, packets_p) = counts(false);
+                        (steps, packets) = counts(false);
                     }
-                    println!(
+                }
+                // The same rays in packets of eight (`Bvh::closest_hits_coherent`), AVX2.
+                let mut best_p = f64::INFINITY;
+                let (mut steps_p, mut packets_p) = (0, 0);
+                for _ in 0..2 {
+                    counts(true);
+                    let start = Instant::now();
+                    let found = if any {
+                        let mut out = vec![false; set.rays.len()];
+                        bvh.occluded_coherent(&set.rays, &set.t_max, &mut out);
+                        out.iter().filter(|&&o| o).count()
+                    } else {
+                        let mut out = vec![None; set.rays.len()];
+                        bvh.closest_hits_coherent(&set.rays, &set.t_max, &mut out);
+                        out.iter().filter(|o| o.is_some()).count()
+                    };
+                    best_p = best_p.min(start.elapsed().as_secs_f64());
+                    std::hint::black_box(found);
+                    (steps_p, packets_p) = counts(false);
+                }
+                println!(
                     "  {:<10} {:<11}: {:5.1} steps {:4.1} packets per ray; Mrays/s SSE2 {:6.2}, AVX2 {:6.2}; \
                      ray packets: {:5.2} steps {:4.1} packets per ray, {:6.2} Mrays/s",
                     set.name,
@@ -141,7 +130,6 @@ fn main() {
                     packets_p as f64 / m,
                     m / best_p / 1e6
                 );
-                }
             }
         }
     }

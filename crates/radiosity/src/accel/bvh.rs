@@ -12,7 +12,7 @@
 
 use glam::Vec3;
 
-use super::build::{build, BuildSettings, Inputs, MAX_DEPTH};
+use super::build::{build, Inputs, MAX_DEPTH};
 use super::node::{is_leaf, leaf_range, leaf_ref, Aabb, Node, EMPTY_CHILD, MAX_TRIANGLES, WIDTH};
 use super::packet::{Tri4, LANES};
 use super::pages::huge_copy;
@@ -60,9 +60,6 @@ pub struct Bvh {
     pub(super) packets: Vec<Tri4>,
     /// Original index of the triangle in each lane of each packet ([`PAD`] for padding).
     pub(super) ids: Vec<u32>,
-    /// Bit i set when triangle i is stored in more than one leaf (spatial splits); empty when
-    /// every triangle is stored once.
-    shared: Vec<u64>,
     /// Number of input triangles.
     count: usize,
     /// Root reference; meaningless when there are no triangles.
@@ -75,25 +72,15 @@ pub struct Bvh {
 }
 
 impl Bvh {
-    /// Builds the hierarchy with the default [`BuildSettings`] (binned SAH with spatial splits,
-    /// see [`crate::accel`]). Triangles of zero area are kept but never hit; a triangle with a
-    /// non-finite coordinate is treated as a zero-area one at its first finite vertex (or the
-    /// origin). Deterministic whatever the thread count.
+    /// Builds the hierarchy (binned SAH, see [`crate::accel`]). Triangles of zero area are kept
+    /// but never hit; a triangle with a non-finite coordinate is treated as a zero-area one at
+    /// its first finite vertex (or the origin). Deterministic whatever the thread count.
     ///
     /// # Panics
     /// With 2²⁸ or more triangles (leaf references address 2²⁸; that many triangles would
     /// take 9 GiB before any hierarchy).
     #[must_use]
     pub fn build(triangles: &[[Vec3; 3]]) -> Self {
-        Self::build_with(triangles, &BuildSettings::default())
-    }
-
-    /// [`Bvh::build`] with explicit settings.
-    ///
-    /// # Panics
-    /// As [`Bvh::build`].
-    #[must_use]
-    pub fn build_with(triangles: &[[Vec3; 3]], settings: &BuildSettings) -> Self {
         assert!(
             triangles.len() < MAX_TRIANGLES,
             "Bvh::build: at most 2^28 triangles"
@@ -101,7 +88,6 @@ impl Bvh {
         let tris: Vec<Tri> = triangles.iter().map(sanitize).collect();
         if tris.is_empty() {
             return Self {
-                shared: Vec::new(),
                 nodes: Vec::new(),
                 packets: Vec::new(),
                 ids: Vec::new(),
@@ -117,16 +103,10 @@ impl Bvh {
             .map(|t| Aabb::from_points(&t.vertices()))
             .collect();
         let centroids: Vec<Vec3> = boxes.iter().map(|b| (b.min + b.max) * 0.5).collect();
-        let vertices: Vec<[Vec3; 3]> = tris.iter().map(Tri::vertices).collect();
-        let mut built = build(
-            &Inputs {
-                boxes: &boxes,
-                centroids: &centroids,
-                triangles: &vertices,
-            },
-            settings,
-        );
-        drop(vertices);
+        let mut built = build(&Inputs {
+            boxes: &boxes,
+            centroids: &centroids,
+        });
         // Leaves name ranges of `order`; pack each into its own packets, in node order.
         let mut packets = Vec::with_capacity(tris.len() / 2);
         let mut ids = Vec::with_capacity(tris.len() * 2);
@@ -156,19 +136,7 @@ impl Bvh {
             }
             built.root
         };
-        // Triangles stored in several leaves (spatial splits).
-        let mut shared = Vec::new();
-        if built.order.len() > tris.len() {
-            shared = vec![0u64; tris.len().div_ceil(64)];
-            let mut seen = vec![0u64; tris.len().div_ceil(64)];
-            for &i in &built.order {
-                let (word, bit) = (i as usize / 64, 1u64 << (i % 64));
-                shared[word] |= seen[word] & bit;
-                seen[word] |= bit;
-            }
-        }
         let bvh = Self {
-            shared,
             // The arrays every ray reads, on huge pages where the system allows (`pages`).
             nodes: huge_copy(&built.nodes),
             packets: huge_copy(&packets),
@@ -200,21 +168,12 @@ impl Bvh {
         std::mem::size_of_val(self.nodes.as_slice())
             + std::mem::size_of_val(self.packets.as_slice())
             + std::mem::size_of_val(self.ids.as_slice())
-            + std::mem::size_of_val(self.shared.as_slice())
     }
 
-    /// Triangle references in the leaves per triangle: 1 without spatial splits, up to
-    /// 1 + [`BuildSettings::split_budget`] with them.
-    #[must_use]
-    pub fn references_per_triangle(&self) -> f64 {
-        let stored = self.ids.iter().filter(|&&id| id != PAD).count();
-        stored as f64 / self.count.max(1) as f64
-    }
-
-    /// The surface-area-heuristic cost of the wide tree, in packet tests per ray: Σ over the
-    /// wide nodes of A(node) and over the leaves of A(leaf) · packets, divided by A(root) (the
-    /// expected steps and packet tests of a ray through the scene box that visits every box it
-    /// crosses; a comparison of builders, not a prediction of ray speed).
+    /// The surface-area-heuristic cost of the wide tree: Σ over the wide nodes of A(node) and
+    /// over the leaves of A(leaf) · packets, divided by A(root) — the steps and packet tests of
+    /// a ray through the scene box that visits every box it crosses. A comparison of builders
+    /// (`examples/traversal_counts.rs`), not a prediction of ray speed.
     #[must_use]
     pub fn sah_cost(&self) -> f64 {
         let root = f64::from(self.bounds.half_area());
@@ -232,22 +191,10 @@ impl Bvh {
                     continue;
                 }
                 let area = f64::from(node.half_area(k));
-                sum += area
-                    * if is_leaf(c) {
-                        leaf_range(c).1 as f64
-                    } else {
-                        1.0
-                    };
+                sum += area * if is_leaf(c) { leaf_range(c).1 as f64 } else { 1.0 };
             }
         }
         sum / root
-    }
-
-    /// Whether triangle `id` is stored in more than one leaf.
-    fn is_shared(&self, id: u32) -> bool {
-        self.shared
-            .get(id as usize / 64)
-            .is_some_and(|w| w >> (id % 64) & 1 != 0)
     }
 
     /// Box of all triangles ([`Aabb::EMPTY`] when there are none).
@@ -282,8 +229,6 @@ impl Bvh {
         }
         let overlaps = |b: &Aabb| query.min.cmple(b.max).all() && b.min.cmple(query.max).all();
         let mut stack = vec![self.root];
-        // Triangles stored in several leaves, reported once at the end.
-        let mut several = Vec::new();
         while let Some(cur) = stack.pop() {
             if is_leaf(cur) {
                 let (first, count) = leaf_range(cur);
@@ -292,11 +237,7 @@ impl Bvh {
                         let id = self.ids[p * LANES + lane];
                         let tri = self.packets[p].vertices(lane);
                         if id != PAD && overlaps(&Aabb::from_points(&tri)) {
-                            if self.is_shared(id) {
-                                several.push(id);
-                            } else {
-                                visit(id as usize);
-                            }
+                            visit(id as usize);
                         }
                     }
                 }
@@ -309,19 +250,12 @@ impl Bvh {
                 }
             }
         }
-        several.sort_unstable();
-        several.dedup();
-        for id in several {
-            visit(id as usize);
-        }
     }
 
     /// Checks every structural invariant: each triangle inside the boxes on its way down, each node reached
     /// once, leaf ranges in bounds and non-overlapping, every triangle in exactly one lane and
     /// inside its leaf's box, padding lanes of zero area, the depth within the traversal stack,
-    /// and the original indices a permutation — except for the triangles spatial splits
-    /// stored in several leaves, which must be marked shared, be stored at least twice and
-    /// overlap every box on their way down.
+    /// and the original indices a permutation.
     ///
     /// # Errors
     /// A description of the first violation found.
@@ -332,7 +266,6 @@ impl Bvh {
             return Err(format!("{} ids for {slots} lanes", self.ids.len()));
         }
         let mut seen_id = vec![false; n];
-        let mut copies = vec![0u8; n];
         for (slot, &id) in self.ids.iter().enumerate() {
             if id == PAD {
                 if !self.packets[slot / LANES].is_point(slot % LANES) {
@@ -344,14 +277,8 @@ impl Bvh {
                 .get_mut(id as usize)
                 .ok_or(format!("id {id} out of range"))?;
             if std::mem::replace(seen, true) {
-                if !self.is_shared(id) {
-                    return Err(format!("triangle {id} stored twice"));
-                }
-                copies[id as usize] = 2;
+                return Err(format!("triangle {id} stored twice"));
             }
-        }
-        if let Some(id) = (0..n).find(|&i| self.is_shared(i as u32) && copies[i] < 2) {
-            return Err(format!("triangle {id} marked shared but stored once"));
         }
         if let Some(id) = seen_id.iter().position(|s| !s) {
             return Err(format!("triangle {id} stored nowhere"));
@@ -382,14 +309,7 @@ impl Bvh {
                     }
                     for lane in 0..LANES {
                         let tri = Aabb::from_points(&self.packets[p].vertices(lane));
-                        let id = self.ids[p * LANES + lane];
-                        let inside = if id != PAD && self.is_shared(id) {
-                            // A part of it lies in the leaf: its box meets the leaf's.
-                            outer.min.cmple(tri.max).all() && tri.min.cmple(outer.max).all()
-                        } else {
-                            id == PAD || outer.contains(&tri)
-                        };
-                        if !inside {
+                        if self.ids[p * LANES + lane] != PAD && !outer.contains(&tri) {
                             return Err(format!("lane {lane} of packet {p} outside its leaf"));
                         }
                     }
@@ -464,39 +384,29 @@ mod tests {
             .map(|i| {
                 let h = |k: u32| ((i.wrapping_mul(2_654_435_761) >> k) & 1023) as f32 / 64.0;
                 let o = Vec3::new(h(0), h(7), h(13));
-                // Every tenth one long and slanted, so that spatial splits store it twice.
-                let long = if i % 10 == 0 { 8.0 } else { 1.0 };
                 [
                     o,
-                    o + Vec3::new(0.3, 0.0, 0.1) * long,
+                    o + Vec3::new(0.3, 0.0, 0.1),
                     o + Vec3::new(0.0, 0.2, 0.4),
                 ]
             })
             .collect();
-        for budget in [0.0, 1.0] {
-            let bvh = Bvh::build_with(
-                &tris,
-                &BuildSettings {
-                    split_budget: budget,
-                },
-            );
-            assert_eq!(bvh.references_per_triangle() > 1.0, budget > 0.0);
-            for (lo, hi) in [(0.0, 3.0), (5.0, 5.5), (15.0, 16.0), (-2.0, -1.0)] {
-                let query = Aabb {
-                    min: Vec3::splat(lo),
-                    max: Vec3::new(hi, hi + 2.0, hi),
-                };
-                let mut found = Vec::new();
-                bvh.overlapping(&query, |t| found.push(t));
-                found.sort_unstable();
-                let expected: Vec<usize> = (0..tris.len())
-                    .filter(|&t| {
-                        let b = Aabb::from_points(&tris[t]);
-                        query.min.cmple(b.max).all() && b.min.cmple(query.max).all()
-                    })
-                    .collect();
-                assert_eq!(found, expected);
-            }
+        let bvh = Bvh::build(&tris);
+        for (lo, hi) in [(0.0, 3.0), (5.0, 5.5), (15.0, 16.0), (-2.0, -1.0)] {
+            let query = Aabb {
+                min: Vec3::splat(lo),
+                max: Vec3::new(hi, hi + 2.0, hi),
+            };
+            let mut found = Vec::new();
+            bvh.overlapping(&query, |t| found.push(t));
+            found.sort_unstable();
+            let expected: Vec<usize> = (0..tris.len())
+                .filter(|&t| {
+                    let b = Aabb::from_points(&tris[t]);
+                    query.min.cmple(b.max).all() && b.min.cmple(query.max).all()
+                })
+                .collect();
+            assert_eq!(found, expected);
         }
     }
 

@@ -32,7 +32,6 @@ mod pages;
 pub mod ray;
 mod traverse;
 
-pub use build::BuildSettings;
 pub use bvh::Bvh;
 pub use node::Aabb;
 pub use ray::{Hit, Ray};

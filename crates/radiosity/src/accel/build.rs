@@ -15,9 +15,6 @@
 //! [`PARALLEL_MIN`] triangles are built in parallel with `rayon::join` into their own node arrays
 //! and concatenated in a fixed order, so the result does not depend on the thread count.
 //!
-//! With a split budget ([`BuildSettings::split_budget`]), `spatial` adds spatial splits, which
-//! may reference a triangle from several leaves (Stich et al. 2009).
-//!
 //! The binary tree is then collapsed into a [`WIDTH`]-wide one (Wald et al. 2008, "Getting
 //! rid of packets"): a node adopts the children of its largest interior child until it has
 //! [`WIDTH`], which divides the depth by about log₂ WIDTH and so cuts the cache misses of a
@@ -25,30 +22,8 @@
 
 use glam::Vec3;
 
-use super::node::{
-    is_leaf, leaf_range, leaf_ref, Aabb, Node, EMPTY_CHILD, MAX_LEAF, MAX_TRIANGLES, WIDTH,
-};
+use super::node::{is_leaf, leaf_ref, Aabb, Node, EMPTY_CHILD, MAX_LEAF, WIDTH};
 use super::packet::LANES;
-
-mod spatial;
-
-/// How to build a [`super::Bvh`].
-///
-/// | field | default | meaning |
-/// |---|---|---|
-/// | `split_budget` | 0.3 | spatial splits may add this many triangle references per triangle (0: object splits only) |
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BuildSettings {
-    /// Most references spatial splits may add, as a fraction of the triangle count; 0 builds
-    /// with object splits only (each triangle in one leaf). Memory and build time grow with it.
-    pub split_budget: f32,
-}
-
-impl Default for BuildSettings {
-    fn default() -> Self {
-        Self { split_budget: 0.3 }
-    }
-}
 
 /// A binary node: the boxes and references of its two children.
 #[derive(Clone, Copy, Debug)]
@@ -79,15 +54,6 @@ pub(super) struct Inputs<'a> {
     pub boxes: &'a [Aabb],
     /// Centroid of each triangle's box.
     pub centroids: &'a [Vec3],
-    /// The vertices of each triangle (spatial splits clip them).
-    pub triangles: &'a [[Vec3; 3]],
-}
-
-impl Inputs<'_> {
-    /// The vertices of triangle `id`.
-    fn triangle(&self, id: u32) -> [Vec3; 3] {
-        self.triangles[id as usize]
-    }
 }
 
 /// A built wide hierarchy: node array (root at 0 unless the root is a leaf), the triangle order
@@ -100,22 +66,9 @@ pub(super) struct Built {
 }
 
 /// Builds the hierarchy over all triangles of `inputs`.
-pub(super) fn build(inputs: &Inputs<'_>, settings: &BuildSettings) -> Built {
-    let n = inputs.boxes.len();
-    let budget = (f64::from(settings.split_budget.max(0.0)) * n as f64) as usize;
-    let budget = budget.min(MAX_TRIANGLES - 1 - n);
-    let (sub, order) = if budget > 0 {
-        let tree = spatial::build(inputs, budget);
-        let sub = Subtree {
-            nodes: tree.nodes,
-            root: tree.root,
-            bounds: tree.bounds,
-        };
-        (sub, tree.order)
-    } else {
-        let mut order: Vec<u32> = (0..n as u32).collect();
-        (build_parallel(inputs, &mut order, 0, 0), order)
-    };
+pub(super) fn build(inputs: &Inputs<'_>) -> Built {
+    let mut order: Vec<u32> = (0..inputs.boxes.len() as u32).collect();
+    let sub = build_parallel(inputs, &mut order, 0, 0);
     let mut nodes = Vec::with_capacity(sub.nodes.len() / 2 + 1);
     let root = if is_leaf(sub.root) {
         sub.root
@@ -224,12 +177,6 @@ fn build_parallel(inputs: &Inputs<'_>, refs: &mut [u32], base: usize, depth: u32
     }
 }
 
-/// Moves a leaf reference by `offset` places in the order.
-fn relocate_leaf(child: u32, offset: usize) -> u32 {
-    let (first, count) = leaf_range(child);
-    leaf_ref(first + offset, count)
-}
-
 /// Moves an interior reference by `offset` nodes; leaf references are global already.
 fn relocate(child: u32, offset: u32) -> u32 {
     if is_leaf(child) {
@@ -279,100 +226,43 @@ fn split(inputs: &Inputs<'_>, refs: &mut [u32], depth: u32) -> Option<usize> {
     if n <= 1 {
         return None;
     }
+    let centroid = |i: u32| inputs.centroids[i as usize];
     if depth >= SAH_DEPTH {
         return (n > MAX_LEAF).then_some(n / 2);
     }
-    let bounds = refs
-        .iter()
-        .fold(Aabb::EMPTY, |b, &i| b.union(&inputs.boxes[i as usize]));
-    let centroid = |i: u32| inputs.centroids[i as usize];
-    let best = centroid_split(n, |k| centroid(refs[k]), |k| inputs.boxes[refs[k] as usize]);
-    match best {
-        Some(best) => {
-            let parent_area = bounds.half_area();
-            let split_cost = TRAVERSAL_COST
-                + if parent_area > 0.0 {
-                    best.cost / parent_area
-                } else {
-                    0.0
-                };
-            if n <= MAX_LEAF && blocks(n) <= split_cost {
-                return None;
-            }
-            Some(partition(refs, |i| best.goes_left(centroid(i))))
-        }
-        // All centroids coincide: only a split by count is possible.
-        None => (n > MAX_LEAF).then_some(n / 2),
-    }
-}
-
-/// The cheapest split of a node by its triangles' centroids.
-pub(super) struct ObjectSplit {
-    /// A(L)·N(L) + A(R)·N(R) (areas halved, N in packets), not yet divided by the parent's.
-    pub cost: f32,
-    /// Boxes of the two sides.
-    pub left: Aabb,
-    pub right: Aabb,
-    /// Triangles on the left.
-    pub n_left: usize,
-    axis: usize,
-    /// First bin on the right.
-    k: usize,
-    cmin: f32,
-    scale: f32,
-}
-
-impl ObjectSplit {
-    /// Whether a triangle of centroid `c` goes to the left side.
-    pub fn goes_left(&self, c: Vec3) -> bool {
-        centroid_bin(c[self.axis], self.cmin, self.scale) < self.k
-    }
-}
-
-/// Bin of centroid coordinate `x` on an extent from `lo` with `scale` bins per unit.
-fn centroid_bin(x: f32, lo: f32, scale: f32) -> usize {
-    (((x - lo) * scale) as usize).min(BINS - 1)
-}
-
-/// The cheapest of the planes between [`BINS`] equal bins of the centroids' extent on each
-/// axis (`n` triangles of centroid `centroid(k)` and box `bounds(k)`), evaluated with one
-/// sweep each way; `None` when no plane has triangles on both sides.
-pub(super) fn centroid_split(
-    n: usize,
-    centroid: impl Fn(usize) -> Vec3,
-    bounds: impl Fn(usize) -> Aabb,
-) -> Option<ObjectSplit> {
+    // Box of the range and of its centroids.
+    let mut bounds = Aabb::EMPTY;
     let mut cmin = Vec3::INFINITY;
     let mut cmax = Vec3::NEG_INFINITY;
-    for k in 0..n {
-        cmin = cmin.min(centroid(k));
-        cmax = cmax.max(centroid(k));
+    for &i in refs.iter() {
+        bounds = bounds.union(&inputs.boxes[i as usize]);
+        cmin = cmin.min(centroid(i));
+        cmax = cmax.max(centroid(i));
     }
     let extent = cmax - cmin;
-    let mut best: Option<ObjectSplit> = None;
+    let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, first bin on the right)
     for axis in 0..3 {
         if extent[axis].is_nan() || extent[axis] <= 0.0 {
             continue;
         }
         let scale = BINS as f32 * (1.0 - 1e-6) / extent[axis];
+        let bin_of = |c: Vec3| (((c[axis] - cmin[axis]) * scale) as usize).min(BINS - 1);
         // Count and bound the triangles in each bin.
         let mut counts = [0u32; BINS];
         let mut boxes = [Aabb::EMPTY; BINS];
-        for i in 0..n {
-            let b = centroid_bin(centroid(i)[axis], cmin[axis], scale);
+        for &i in refs.iter() {
+            let b = bin_of(centroid(i));
             counts[b] += 1;
-            boxes[b] = boxes[b].union(&bounds(i));
+            boxes[b] = boxes[b].union(&inputs.boxes[i as usize]);
         }
         // Sweep from the right: area × count of bins k.. for every k.
         let mut right_cost = [0f32; BINS];
-        let mut right_box = [Aabb::EMPTY; BINS];
         let mut acc = Aabb::EMPTY;
         let mut count = 0u32;
         for k in (1..BINS).rev() {
             acc = acc.union(&boxes[k]);
             count += counts[k];
             right_cost[k] = acc.half_area() * blocks(count as usize);
-            right_box[k] = acc;
         }
         // Sweep from the left and keep the cheapest plane with triangles on both sides.
         let mut acc = Aabb::EMPTY;
@@ -384,21 +274,34 @@ pub(super) fn centroid_split(
                 continue;
             }
             let cost = acc.half_area() * blocks(count as usize) + right_cost[k];
-            if best.as_ref().is_none_or(|b| cost < b.cost) {
-                best = Some(ObjectSplit {
-                    cost,
-                    left: acc,
-                    right: right_box[k],
-                    n_left: count as usize,
-                    axis,
-                    k,
-                    cmin: cmin[axis],
-                    scale,
-                });
+            if best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, axis, k));
             }
         }
     }
-    best
+    let parent_area = bounds.half_area();
+    let leaf_cost = blocks(n);
+    match best {
+        Some((cost, axis, k)) => {
+            let split_cost = TRAVERSAL_COST
+                + if parent_area > 0.0 {
+                    cost / parent_area
+                } else {
+                    0.0
+                };
+            if n <= MAX_LEAF && leaf_cost <= split_cost {
+                return None;
+            }
+            let scale = BINS as f32 * (1.0 - 1e-6) / extent[axis];
+            let goes_left = |i: u32| {
+                let b = (((centroid(i)[axis] - cmin[axis]) * scale) as usize).min(BINS - 1);
+                b < k
+            };
+            Some(partition(refs, goes_left))
+        }
+        // All centroids coincide: only a split by count is possible.
+        None => (n > MAX_LEAF).then_some(n / 2),
+    }
 }
 
 /// Packets of [`LANES`] that `n` triangles fill: what a leaf of them costs to test.
