@@ -59,10 +59,11 @@ fn main() {
         let start = Instant::now();
         let bvh = Bvh::build(&scene.triangles);
         println!(
-            "{name}: {} triangles, build {:.2} s, {:.1} bytes/triangle",
+            "{name}: {} triangles, build {:.2} s, {:.1} bytes/triangle, SAH cost {:.2}",
             scene.triangles.len(),
             start.elapsed().as_secs_f64(),
-            bvh.memory_bytes() as f64 / scene.triangles.len() as f64
+            bvh.memory_bytes() as f64 / scene.triangles.len() as f64,
+            bvh.sah_cost()
         );
         let incoherent = rays::incoherent(&scene.triangles, &bvh, 200_000, 1);
         let primary = rays::primary(&scene.camera);

@@ -13,7 +13,7 @@
 //! |---|---|---|
 //! | [`Isa`] in effect | the best the processor has | [`set`] lowers it (benchmarks, tests) |
 //!
-//! The crate's two `unsafe` blocks are here: calling a `#[target_feature]` function needs the
+//! Two of the crate's three `unsafe` blocks are here (the third is `madvise` in `pages`): calling a `#[target_feature]` function needs the
 //! caller to promise that the processor has the features, which [`std::is_x86_feature_detected`]
 //! establishes, and `prefetch`'s intrinsic is declared that way. Measured on the
 //! 1M-triangle benchmark scenes (`benches/README.md`): with AVX2 1.03–1.3× the SSE2 build's

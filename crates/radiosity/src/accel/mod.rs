@@ -15,6 +15,8 @@
 //! - [`coherent`]: ray packets, eight coherent rays (a camera's, shadow rays to one light)
 //!   walked together, sharing each node's fetch and ordering.
 //! - [`isa`]: the queries compiled for the baseline and for AVX2, chosen at run time.
+//! - `pages`: the node and packet arrays on transparent huge pages (`madvise`), so that a
+//!   walk through 50 MB of hierarchy does not also miss the TLB at every step.
 //! - [`bench`]: the ray-throughput benchmark measured against Intel Embree
 //!   (`benches/README.md`).
 //!
@@ -28,6 +30,7 @@ pub mod coherent;
 pub mod isa;
 mod node;
 mod packet;
+mod pages;
 pub mod ray;
 mod traverse;
 
