@@ -333,10 +333,10 @@ pub struct MeshArgs {
     #[arg(long, value_name = "A", value_parser = positive_f64)]
     pub max_element_area: Option<f64>,
     /// Most light sources: quadtree nodes that shoot the mean radiosity of their elements
-    /// (substructuring); each element opens those in its near field. Sources are the elements
-    /// themselves when there are fewer elements; a gathering solver takes more where contact
-    /// lines need them, within --max-memory [default: 2048 to 8192, half the elements;
-    /// 8192 for progressive refinement]
+    /// (substructuring); with fewer sources than elements, each element opens those in its
+    /// near field. Sources are the elements themselves when there are fewer elements; a
+    /// gathering solver takes more where contact lines need them, within --max-memory
+    /// [default: 8192]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     pub sources: Option<u64>,
 }
@@ -605,14 +605,7 @@ mod tests {
         for (flag, default) in [
             ("--elements", radiosity::mesh::DEFAULT_ELEMENTS.to_string()),
             ("--form-factors", ff.method().name().to_string()),
-            (
-                "--sources",
-                format!(
-                    "{} to {}",
-                    radiosity::solve::plan::automatic_sources(0.0),
-                    radiosity::solve::plan::MAX_SOURCES
-                ),
-            ),
+            ("--sources", solver.max_sources.to_string()),
             ("--quadrature", rays.quadrature.to_string()),
             ("--rays", rays.rays.to_string()),
             ("--tolerance", format!("{:e}", solver.tolerance)),
@@ -623,7 +616,7 @@ mod tests {
                 .find("\n      --")
                 .map_or(help.len(), |k| at + 2 + k);
             let text = help[at..next].replace('\n', " ");
-            assert!(text.contains(&format!("[default: {default}")), "{text}");
+            assert!(text.contains(&format!("[default: {default}]")), "{text}");
         }
     }
 

@@ -46,9 +46,11 @@ pub fn run(args: &HemicubeArgs) -> Result<()> {
         );
     }
     let bvh = Bvh::build(&mesh.triangles);
-    let max_sources = args.sources.map_or(solve::plan::MAX_SOURCES, |n| {
-        usize::try_from(n).unwrap_or(usize::MAX)
-    });
+    let max_sources = args
+        .sources
+        .map_or(solve::Settings::default().max_sources, |n| {
+            usize::try_from(n).unwrap_or(usize::MAX)
+        });
     let sources = mesh.sources(max_sources, max_sources);
     let g = Geometry::new(&mesh, &bvh, &sources);
     let hemicube = Hemicube::new(args.resolution, 1, args.seed).with_rotation(args.rotate);

@@ -24,7 +24,7 @@ pub fn pipeline_settings(common: &CommonArgs) -> anyhow::Result<pipeline::Settin
     }
     settings.form_factors = form_factor_settings(common)?;
     if let Some(n) = common.mesh.sources {
-        settings.solve.max_sources = Some(usize::try_from(n).unwrap_or(usize::MAX));
+        settings.solve.max_sources = usize::try_from(n).unwrap_or(usize::MAX);
     }
     settings.method = match common.solver.solver {
         Solver::Jacobi => Some(solve::Method::Jacobi),

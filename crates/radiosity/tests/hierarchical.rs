@@ -84,7 +84,7 @@ fn furnace_objects_agree_with_gauss_seidel() {
             method: Some(Method::GaussSeidel),
             solve: solve::Settings {
                 tolerance: 1e-8,
-                max_sources: Some(usize::MAX),
+                max_sources: usize::MAX,
                 ..solve::Settings::default()
             },
             ..Settings::default()
@@ -322,7 +322,7 @@ fn cornell_agrees_with_gauss_seidel_and_converges_with_epsilon() {
             method: Some(Method::GaussSeidel),
             solve: solve::Settings {
                 tolerance: 1e-7,
-                max_sources: Some(100_000),
+                max_sources: 100_000,
                 ..solve::Settings::default()
             },
             ..Settings::default()

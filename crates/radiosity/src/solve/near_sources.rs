@@ -30,7 +30,7 @@ use crate::mesh::Mesh;
 
 /// A node is opened for a receiver whose centroid is closer to the node's centroid than this
 /// many of the node's diameters. Measured on `benches/suite` with a quarter of the elements as
-/// sources ([`super::plan::automatic_sources`]; `python3 benches/suite/compare.py`): at 2
+/// sources (`--sources`; `python3 benches/suite/compare.py`): at 2
 /// diameters the closed-mesh scene's ceiling came out −0.93 % and the furnished room's walls
 /// −1.2 to −1.4 % (every element a source: +0.18 %, +0.61 %); at 4 every scene is where it was
 /// with every element a source, within 0.3 points (docs/validation.md, seventh round).

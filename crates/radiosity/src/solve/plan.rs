@@ -17,11 +17,6 @@
 //! room for enough sources, the automatic choice takes progressive refinement, which needs no
 //! matrix and keeps the subdivision already made.
 //!
-//! The sources of a gathering solver are, unless the user names a number, half the elements
-//! ([`automatic_sources`]): each receiver opens the sources in its near field
-//! ([`super::near_sources`]), so coarser sources cost little accuracy and the form factors,
-//! elements × sources pairs, about half the time.
-//!
 //! A solver the user names is kept: a gathering one gets as many sources as fit (down to
 //! [`MIN_GATHER_SOURCES`]), or the requested number and then refuses with
 //! [`super::SolveError::MatrixTooLarge`]. Checkpoints do not enter the choice.
@@ -32,20 +27,6 @@ use super::Method;
 /// box's object means stay within 1 % of the element-to-element solution (3792 elements; 256
 /// sources are 3 % off).
 pub const MIN_GATHER_SOURCES: usize = 1024;
-
-/// Most sources by default (and for progressive refinement, which shoots each of them).
-pub const MAX_SOURCES: usize = 8192;
-
-/// The sources of a gathering solver when the user names no number: half the elements, at
-/// least 2 048 (or every element, if there are fewer), at most [`MAX_SOURCES`]. Measured on
-/// the built-in Cornell box at 256² (`radiosity render --sources N`, 6 082 elements, the
-/// picture against Mitsuba 3, docs/validation.md): every element a source 1.94 %, 3 000
-/// sources 1.95 %, 2 048 sources 2.04 %, 1 500 sources 2.05 % (3.57 % before the near sources
-/// were opened).
-#[must_use]
-pub fn automatic_sources(elements: f64) -> usize {
-    ((elements / 2.0) as usize).clamp(2048, MAX_SOURCES)
-}
 
 /// What the choice is made from.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,9 +39,8 @@ pub struct Problem {
     pub elements: f64,
     /// Whether the elements are counted (the mesh is built) rather than estimated.
     pub meshed: bool,
-    /// The sources asked for, `None` for [`automatic_sources`] (gathering) or [`MAX_SOURCES`]
-    /// (progressive refinement).
-    pub sources: Option<usize>,
+    /// The sources asked for.
+    pub sources: usize,
     /// The most bytes the form-factor matrix may take.
     pub matrix_bytes: u64,
 }
@@ -105,15 +85,10 @@ pub fn plan(p: &Problem) -> Choice {
         None => Method::Progressive,
     };
     let gathers = matches!(method, Method::Jacobi | Method::GaussSeidel);
-    let asked = p.sources.unwrap_or(if gathers {
-        automatic_sources(elements)
-    } else {
-        MAX_SOURCES
-    });
     let (sources, reach) = if gathers && enough {
-        (asked.min(fit), fit)
+        (p.sources.min(fit), fit)
     } else {
-        (asked, asked)
+        (p.sources, p.sources)
     };
     Choice::Subdivided {
         method,
@@ -134,7 +109,7 @@ mod tests {
             roots: 20,
             elements,
             meshed,
-            sources: Some(8192),
+            sources: 8192,
             matrix_bytes: bytes,
         }
     }
@@ -196,38 +171,6 @@ mod tests {
         for (p, expected) in cases {
             assert_eq!(plan(&p), expected, "{p:?}");
         }
-    }
-
-    #[test]
-    fn automatic_sources_are_half_the_elements_within_bounds() {
-        let automatic = |elements: f64, bytes: u64| {
-            let mut p = problem(None, elements, true, bytes);
-            p.sources = None;
-            plan(&p)
-        };
-        use Method::GaussSeidel;
-        assert_eq!(automatic(3000.0, GIB), subdivided(GaussSeidel, 2048, 89478));
-        assert_eq!(automatic(6000.0, GIB), subdivided(GaussSeidel, 3000, 44739));
-        assert_eq!(
-            automatic(20_000.0, GIB),
-            subdivided(GaussSeidel, 8192, 13421)
-        );
-        assert_eq!(
-            automatic(60_000.0, GIB),
-            subdivided(GaussSeidel, 4473, 4473)
-        );
-        // Fewer elements than 2 048: every element is a source (the cut cannot hold more).
-        assert_eq!(
-            automatic(1000.0, GIB),
-            subdivided(GaussSeidel, 2048, 268435)
-        );
-        // Progressive refinement shoots up to the default maximum.
-        let mut p = problem(Some(Method::Progressive), 6000.0, true, GIB);
-        p.sources = None;
-        assert_eq!(
-            plan(&p),
-            subdivided(Method::Progressive, MAX_SOURCES, MAX_SOURCES)
-        );
     }
 
     #[test]
