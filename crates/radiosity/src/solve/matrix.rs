@@ -34,31 +34,63 @@ pub struct Matrix {
     done: Vec<bool>,
 }
 
-/// The opened pieces of every row, row after row: those of row e are
-/// `pieces[start[e]..start[e + 1]]`.
+/// The opened pieces of every row, kept by chunks of [`CHUNK_ROWS`] rows as they were computed
+/// (one array per chunk, no copy into one long array: at 60 000 elements with 4 400 sources
+/// there are some 300 pieces per row, 0.2 GB).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(super) struct Near {
-    pub start: Vec<usize>,
-    pub pieces: Vec<Piece>,
+    chunks: Vec<NearChunk>,
 }
 
-impl Near {
-    /// From each row's pieces, in row order.
-    pub fn from_rows(rows: impl IntoIterator<Item = Vec<Piece>>) -> Self {
-        let mut near = Self {
+/// The pieces of one chunk of rows: those of its row k are `pieces[start[k]..start[k + 1]]`.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct NearChunk {
+    start: Vec<u32>,
+    pieces: Vec<Piece>,
+}
+
+impl NearChunk {
+    /// From the pieces of each of its rows.
+    fn from_rows(rows: impl IntoIterator<Item = Vec<Piece>>) -> Self {
+        let mut chunk = Self {
             start: vec![0],
             pieces: Vec::new(),
         };
         for row in rows {
-            near.pieces.extend(row);
-            near.start.push(near.pieces.len());
+            chunk.pieces.extend(row);
+            chunk.start.push(chunk.pieces.len() as u32);
         }
-        near
+        chunk.pieces.shrink_to_fit();
+        chunk
+    }
+}
+
+impl Near {
+    /// From each row's pieces, in row order.
+    pub fn from_rows(rows: Vec<Vec<Piece>>) -> Self {
+        let mut rows = rows.into_iter().peekable();
+        let mut chunks = Vec::new();
+        while rows.peek().is_some() {
+            chunks.push(NearChunk::from_rows(rows.by_ref().take(CHUNK_ROWS)));
+        }
+        Self { chunks }
     }
 
     /// The pieces of row `e`.
     pub fn row(&self, e: usize) -> &[Piece] {
-        &self.pieces[self.start[e]..self.start[e + 1]]
+        let chunk = &self.chunks[e / CHUNK_ROWS];
+        let k = e % CHUNK_ROWS;
+        &chunk.pieces[chunk.start[k] as usize..chunk.start[k + 1] as usize]
+    }
+
+    /// The number of rows.
+    fn rows(&self) -> usize {
+        self.chunks.iter().map(|c| c.start.len() - 1).sum()
+    }
+
+    /// The number of pieces.
+    fn len(&self) -> usize {
+        self.chunks.iter().map(|c| c.pieces.len()).sum()
     }
 }
 
@@ -117,7 +149,7 @@ impl Matrix {
         let mut data = Self::zeros(rows, sources, limit)?;
         let prior = prior.filter(|p| p.shape() == (rows, sources));
         progress.start("form factors", rows as u64);
-        let chunks: Vec<Option<Vec<Vec<Piece>>>> = if sources > 0 {
+        let chunks: Vec<Option<NearChunk>> = if sources > 0 {
             data.par_chunks_mut(CHUNK_ROWS * sources)
                 .enumerate()
                 .map(|(chunk, block)| {
@@ -125,37 +157,51 @@ impl Matrix {
                     let rows = block.len() / sources;
                     let near = if let Some(prior) = prior.filter(|p| p.done[chunk]) {
                         block.copy_from_slice(&prior.data[first * sources..][..block.len()]);
-                        (first..first + rows)
-                            .map(|e| prior.near.row(e).to_vec())
-                            .collect()
+                        NearChunk::from_rows(
+                            (first..first + rows).map(|e| prior.near.row(e).to_vec()),
+                        )
                     } else {
                         if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
                             return None;
                         }
                         let mut scratch = Scratch::default();
-                        let mut near = Vec::with_capacity(rows);
-                        for (k, row) in block.chunks_mut(sources).enumerate() {
-                            let mut pieces = Vec::new();
-                            near_sources::row(g, ff, first + k, row, &mut pieces, &mut scratch);
-                            cap_at_hemisphere(row, &mut pieces);
-                            near.push(pieces);
-                        }
-                        near
+                        NearChunk::from_rows(block.chunks_mut(sources).enumerate().map(
+                            |(k, row)| {
+                                let mut pieces = Vec::new();
+                                near_sources::row(g, ff, first + k, row, &mut pieces, &mut scratch);
+                                cap_at_hemisphere(row, &mut pieces);
+                                pieces
+                            },
+                        ))
                     };
                     progress.advance(rows as u64);
                     Some(near)
                 })
                 .collect()
         } else {
-            vec![Some(vec![Vec::new(); CHUNK_ROWS]); rows.div_ceil(CHUNK_ROWS)]
+            (0..rows.div_ceil(CHUNK_ROWS))
+                .map(|k| {
+                    let n = CHUNK_ROWS.min(rows - k * CHUNK_ROWS);
+                    Some(NearChunk::from_rows(vec![Vec::new(); n]))
+                })
+                .collect()
         };
         progress.finish();
         let done = chunks.iter().map(Option::is_some).collect();
-        let near = Near::from_rows((0..rows).map(|e| {
-            chunks[e / CHUNK_ROWS]
-                .as_ref()
-                .map_or_else(Vec::new, |c| c[e % CHUNK_ROWS].clone())
-        }));
+        let near = Near {
+            chunks: chunks
+                .into_iter()
+                .enumerate()
+                .map(|(k, chunk)| {
+                    chunk.unwrap_or_else(|| {
+                        NearChunk::from_rows(vec![
+                            Vec::new();
+                            CHUNK_ROWS.min(rows - k * CHUNK_ROWS)
+                        ])
+                    })
+                })
+                .collect(),
+        };
         Ok(Self {
             sources,
             data: Arc::new(data),
@@ -219,9 +265,11 @@ impl Matrix {
         let rows = data.len().checked_div(sources).unwrap_or(0);
         let consistent = data.len().is_multiple_of(sources.max(1))
             && done.len() == rows.div_ceil(CHUNK_ROWS)
-            && near.start.len() == rows + 1
-            && near.start.last() == Some(&near.pieces.len())
-            && near.start.windows(2).all(|w| w[0] <= w[1]);
+            && near.rows() == rows
+            && near
+                .chunks
+                .iter()
+                .all(|c| c.pieces.iter().all(|p| p.elements.end as usize <= rows));
         consistent.then(|| Self {
             sources,
             data: Arc::new(data),
@@ -256,7 +304,7 @@ impl Matrix {
     /// Number of non-zero form factors (opened pieces included).
     #[must_use]
     pub fn links(&self) -> u64 {
-        (self.data.iter().filter(|&&f| f != 0.0).count() + self.near.pieces.len()) as u64
+        (self.data.iter().filter(|&&f| f != 0.0).count() + self.near.len()) as u64
     }
 }
 
