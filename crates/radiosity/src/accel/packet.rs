@@ -97,40 +97,15 @@ impl Tri4 {
         d: &[[f32; RAYS]; 3],
         t_max: &[f32; RAYS],
     ) -> ([f32; RAYS], [f32; RAYS], [f32; RAYS], u32) {
-        let (v0x, v0y, v0z) = (self.v0[0][lane], self.v0[1][lane], self.v0[2][lane]);
-        let (e1x, e1y, e1z) = (self.e1[0][lane], self.e1[1][lane], self.e1[2][lane]);
-        let (e2x, e2y, e2z) = (self.e2[0][lane], self.e2[1][lane], self.e2[2][lane]);
+        let corner = |a: &[[f32; LANES]; 3]| [a[0][lane], a[1][lane], a[2][lane]];
+        let (v0, e1, e2) = (corner(&self.v0), corner(&self.e1), corner(&self.e2));
         let mut t = [0f32; RAYS];
         let mut u = [0f32; RAYS];
         let mut v = [0f32; RAYS];
         let mut hits = [false; RAYS];
         for r in 0..RAYS {
-            let (ox, oy, oz) = (o[0][r], o[1][r], o[2][r]);
-            let (dx, dy, dz) = (d[0][r], d[1][r], d[2][r]);
-            // p = d × e2, det = e1 · p.
-            let px = dy * e2z - e2y * dz;
-            let py = dz * e2x - e2z * dx;
-            let pz = dx * e2y - e2x * dy;
-            let det = (e1x * px) + (e1y * py) + (e1z * pz);
-            let inv_det = 1.0 / det;
-            // s = o − v0, u = (s · p) / det.
-            let sx = ox - v0x;
-            let sy = oy - v0y;
-            let sz = oz - v0z;
-            let ul = ((sx * px) + (sy * py) + (sz * pz)) * inv_det;
-            // q = s × e1, v = (d · q) / det, t = (e2 · q) / det.
-            let qx = sy * e1z - e1y * sz;
-            let qy = sz * e1x - e1z * sx;
-            let qz = sx * e1y - e1x * sy;
-            let vl = ((dx * qx) + (dy * qy) + (dz * qz)) * inv_det;
-            let tl = ((e2x * qx) + (e2y * qy) + (e2z * qz)) * inv_det;
-            let hit = (det != 0.0)
-                & (ul >= 0.0)
-                & (ul <= 1.0)
-                & (vl >= 0.0)
-                & (ul + vl <= 1.0)
-                & (tl > 0.0)
-                & (tl < t_max[r]);
+            let ray = ([o[0][r], o[1][r], o[2][r]], [d[0][r], d[1][r], d[2][r]]);
+            let (tl, ul, vl, hit) = moller_trumbore(ray, (v0, e1, e2), t_max[r]);
             t[r] = tl;
             u[r] = ul;
             v[r] = vl;
@@ -154,39 +129,14 @@ impl Tri4 {
         d: Vec3,
         t_max: f32,
     ) -> ([f32; LANES], [f32; LANES], [f32; LANES], u32) {
-        let [v0x, v0y, v0z] = &self.v0;
-        let [e1x, e1y, e1z] = &self.e1;
-        let [e2x, e2y, e2z] = &self.e2;
         let mut t = [0f32; LANES];
         let mut u = [0f32; LANES];
         let mut v = [0f32; LANES];
         let mut hits = [false; LANES];
         for l in 0..LANES {
-            // p = d × e2, det = e1 · p.
-            let px = d.y * e2z[l] - e2y[l] * d.z;
-            let py = d.z * e2x[l] - e2z[l] * d.x;
-            let pz = d.x * e2y[l] - e2x[l] * d.y;
-            let det = (e1x[l] * px) + (e1y[l] * py) + (e1z[l] * pz);
-            let inv_det = 1.0 / det;
-            // s = o − v0, u = (s · p) / det.
-            let sx = o.x - v0x[l];
-            let sy = o.y - v0y[l];
-            let sz = o.z - v0z[l];
-            let ul = ((sx * px) + (sy * py) + (sz * pz)) * inv_det;
-            // q = s × e1, v = (d · q) / det, t = (e2 · q) / det.
-            let qx = sy * e1z[l] - e1y[l] * sz;
-            let qy = sz * e1x[l] - e1z[l] * sx;
-            let qz = sx * e1y[l] - e1x[l] * sy;
-            let vl = ((d.x * qx) + (d.y * qy) + (d.z * qz)) * inv_det;
-            let tl = ((e2x[l] * qx) + (e2y[l] * qy) + (e2z[l] * qz)) * inv_det;
-            // The scalar test's conditions; NaN fails every comparison and so misses.
-            let hit = (det != 0.0)
-                & (ul >= 0.0)
-                & (ul <= 1.0)
-                & (vl >= 0.0)
-                & (ul + vl <= 1.0)
-                & (tl > 0.0)
-                & (tl < t_max);
+            let corner = |a: &[[f32; LANES]; 3]| [a[0][l], a[1][l], a[2][l]];
+            let triangle = (corner(&self.v0), corner(&self.e1), corner(&self.e2));
+            let (tl, ul, vl, hit) = moller_trumbore((o.to_array(), d.to_array()), triangle, t_max);
             t[l] = if hit { tl } else { f32::INFINITY };
             u[l] = ul;
             v[l] = vl;
@@ -198,6 +148,46 @@ impl Tri4 {
         }
         (t, u, v, mask)
     }
+}
+
+/// Möller–Trumbore for one ray (origin, direction) and one triangle (v0, e1, e2): (t, u, v)
+/// and whether it is hit with t in (0, `t_max`). The one lane of both packet loops
+/// ([`Tri4::lanes`]: one ray, four triangles; [`Tri4::lane_rays`]: one triangle, [`RAYS`] rays),
+/// written with the scalar test's operations in its order so every lane gives its bits; the
+/// non-short-circuit `&` keeps the lanes free of branches, so the loops vectorize.
+#[inline(always)]
+#[allow(clippy::manual_range_contains)]
+fn moller_trumbore(
+    (o, d): ([f32; 3], [f32; 3]),
+    (v0, e1, e2): ([f32; 3], [f32; 3], [f32; 3]),
+    t_max: f32,
+) -> (f32, f32, f32, bool) {
+    // p = d × e2, det = e1 · p.
+    let px = d[1] * e2[2] - e2[1] * d[2];
+    let py = d[2] * e2[0] - e2[2] * d[0];
+    let pz = d[0] * e2[1] - e2[0] * d[1];
+    let det = (e1[0] * px) + (e1[1] * py) + (e1[2] * pz);
+    let inv_det = 1.0 / det;
+    // s = o − v0, u = (s · p) / det.
+    let sx = o[0] - v0[0];
+    let sy = o[1] - v0[1];
+    let sz = o[2] - v0[2];
+    let u = ((sx * px) + (sy * py) + (sz * pz)) * inv_det;
+    // q = s × e1, v = (d · q) / det, t = (e2 · q) / det.
+    let qx = sy * e1[2] - e1[1] * sz;
+    let qy = sz * e1[0] - e1[2] * sx;
+    let qz = sx * e1[1] - e1[0] * sy;
+    let v = ((d[0] * qx) + (d[1] * qy) + (d[2] * qz)) * inv_det;
+    let t = ((e2[0] * qx) + (e2[1] * qy) + (e2[2] * qz)) * inv_det;
+    // The scalar test's conditions; NaN fails every comparison and so misses.
+    let hit = (det != 0.0)
+        & (u >= 0.0)
+        & (u <= 1.0)
+        & (v >= 0.0)
+        & (u + v <= 1.0)
+        & (t > 0.0)
+        & (t < t_max);
+    (t, u, v, hit)
 }
 
 #[cfg(test)]
