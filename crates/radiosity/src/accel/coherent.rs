@@ -37,7 +37,7 @@ use super::isa;
 use super::node::{is_leaf, leaf_range, RAYS, WIDTH};
 use super::packet::LANES;
 use super::ray::{Hit, Ray};
-use super::traverse::slabs;
+use super::traverse::{slabs, worst_first};
 use glam::Vec3;
 
 /// Rays per packet (4 and 16 measured against 8: see `benches/README.md`).
@@ -340,15 +340,8 @@ impl Bvh {
                     count += 1;
                 }
                 if count > 0 {
-                    // Sort worst first (insertion sort of at most eight), push all but the
-                    // best, go on with it.
-                    for i in 1..count {
-                        let mut j = i;
-                        while j > 0 && todo[j - 1].2 < todo[j].2 {
-                            todo.swap(j - 1, j);
-                            j -= 1;
-                        }
-                    }
+                    // Worst first: push all but the best, go on with it.
+                    worst_first(&mut todo[..count], |c| c.2);
                     stack[sp..sp + count - 1].copy_from_slice(&todo[..count - 1]);
                     sp += count - 1;
                     cur = todo[count - 1].0;

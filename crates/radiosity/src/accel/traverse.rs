@@ -152,15 +152,8 @@ impl Walk {
                     n += 1;
                 }
                 if n > 0 {
-                    // Sort worst first (insertion sort of at most eight), push all but the
-                    // best, go on with it.
-                    for i in 1..n {
-                        let mut j = i;
-                        while j > 0 && todo[j - 1].1 < todo[j].1 {
-                            todo.swap(j - 1, j);
-                            j -= 1;
-                        }
-                    }
+                    // Worst first: push all but the best, go on with it.
+                    worst_first(&mut todo[..n], |c| c.1);
                     stack[self.sp..self.sp + n - 1].copy_from_slice(&todo[..n - 1]);
                     self.sp += n - 1;
                     self.cur = todo[n - 1].0;
@@ -412,6 +405,20 @@ impl Bvh {
                     active -= 1;
                 }
             }
+        }
+    }
+}
+
+/// Sorts a node's children to visit worst first by `key` (larger is worse), by insertion: at
+/// most eight, and equal keys keep their order, so the walk is deterministic. The one-ray walk
+/// and the packet walk ([`super::coherent`]) both push all but the last and go on with it.
+#[inline(always)]
+pub(super) fn worst_first<T>(todo: &mut [T], key: impl Fn(&T) -> f32) {
+    for i in 1..todo.len() {
+        let mut j = i;
+        while j > 0 && key(&todo[j - 1]) < key(&todo[j]) {
+            todo.swap(j - 1, j);
+            j -= 1;
         }
     }
 }
