@@ -50,6 +50,14 @@ struct NearChunk {
 }
 
 impl NearChunk {
+    /// Chunk `k` of a matrix of `rows` rows, without pieces.
+    fn empty(rows: usize, k: usize) -> Self {
+        Self {
+            start: vec![0; CHUNK_ROWS.min(rows - k * CHUNK_ROWS) + 1],
+            pieces: Vec::new(),
+        }
+    }
+
     /// From the pieces of each of its rows.
     fn from_rows(rows: impl IntoIterator<Item = Vec<Piece>>) -> Self {
         let mut chunk = Self {
@@ -180,10 +188,7 @@ impl Matrix {
                 .collect()
         } else {
             (0..rows.div_ceil(CHUNK_ROWS))
-                .map(|k| {
-                    let n = CHUNK_ROWS.min(rows - k * CHUNK_ROWS);
-                    Some(NearChunk::from_rows(vec![Vec::new(); n]))
-                })
+                .map(|k| Some(NearChunk::empty(rows, k)))
                 .collect()
         };
         progress.finish();
@@ -192,14 +197,7 @@ impl Matrix {
             chunks: chunks
                 .into_iter()
                 .enumerate()
-                .map(|(k, chunk)| {
-                    chunk.unwrap_or_else(|| {
-                        NearChunk::from_rows(vec![
-                            Vec::new();
-                            CHUNK_ROWS.min(rows - k * CHUNK_ROWS)
-                        ])
-                    })
-                })
+                .map(|(k, chunk)| chunk.unwrap_or_else(|| NearChunk::empty(rows, k)))
                 .collect(),
         };
         Ok(Self {
