@@ -43,6 +43,19 @@
 //! and the far part shrinks (a first version that added the near part to an interpolated far
 //! part made the corners brighter still).
 //!
+//! Next to the point, an element's mean B_s is still too coarse: the floor within a few
+//! centimetres of a block is darker than the mean of its element, and the bottom of the block's
+//! face, which sees mostly that strip, came out 20–30 % too bright. So each element is cut into
+//! sixteen *pieces* (two quadtree steps), the evaluation above is taken once at each piece's
+//! centroid before the picture, and a point within [`OPEN_WITHIN`] diameters of an element
+//! sees its pieces instead of its mean (nodes coarser than the elements open the same way).
+//! The pieces are shifted to keep their element's mean, and R is taken a second time with them
+//! in the near field, so that a point's far part and its neighbours' pieces agree (with R from
+//! the first pass only, the furnished room's shelf, 5 cm from a wall, came out 1.5 % dark).
+//! The direct light at the pieces is computed once for both passes. Measured at 256² against
+//! Mitsuba 3: the furnished room 1.96 → 1.25 %, the Cornell box at 2 048 elements
+//! 2.56 → 2.10 % (at its default 6 082 elements 1.94 → 1.95 %).
+//!
 //! The solve stays viewer-independent; only the picture is evaluated per point. Mirrors and
 //! glass are traced as by [`super::render`].
 
@@ -59,8 +72,9 @@ use crate::render::{Image, RasterSettings};
 use crate::scene::Camera;
 use crate::{Rgb, Scene};
 
-/// Side of the grid of points at which an element's own direct light is averaged.
-const ELEMENT_GRID: u32 = 4;
+/// The pieces of an element at which the evaluation is taken once before the picture: two
+/// quadtree steps below it.
+const PIECES: usize = 16;
 
 /// The reach of the near field, in diameters of the largest element of the receiving patch.
 /// Measured at 256² against Mitsuba 3 (`bench --suite image`, 4 × 4-pixel blocks): reach 2 /
@@ -74,6 +88,10 @@ const NEAR_REACH: f32 = 3.0;
 
 /// The far part's radiosity is divided by the share of the view left to it; never by less.
 const MIN_FAR_SHARE: f64 = 0.05;
+
+/// A near node below the cut (along a contact line or a shadow) is opened into its children
+/// within this many of its diameters of the point.
+const OPEN_WITHIN: f32 = 2.0;
 
 /// Beyond this many face diameters, a near node's factor is the point kernel
 /// ([`near_factor`]).
@@ -109,12 +127,36 @@ pub(super) struct NearField {
     owner: Vec<u32>,
     /// The nodes of the cut.
     nodes: Vec<u32>,
-    /// Mean B − E of each node's elements.
+    /// Mean B − E of the elements below each node of the mesh, by node index.
     reflected: Vec<Rgb>,
-    /// The centroid, diameter and area of each node's face (computed once: every pixel asks).
+    /// The centroid, diameter and area of each node's face, by node index (computed once:
+    /// every pixel asks).
     shapes: Vec<Shape>,
     /// The reach per patch: [`NEAR_REACH`] times its largest element's diameter.
     reach: Vec<f32>,
+    /// The [`pieces`] of each element: their centroids, areas and largest diameter.
+    pieces: Vec<Pieces>,
+    /// B − E evaluated at each element's pieces, once the far part is known.
+    values: Vec<[Rgb; PIECES]>,
+}
+
+/// An element's [`pieces`], as the near field needs them.
+#[derive(Clone, Copy, Debug)]
+struct Pieces {
+    centroids: [Vec3; PIECES],
+    areas: [f64; PIECES],
+    diameter: f32,
+}
+
+impl Pieces {
+    fn of(face: &Face) -> Self {
+        let faces = pieces(face);
+        Self {
+            centroids: faces.map(|f| f.centroid()),
+            areas: faces.map(|f| f.area()),
+            diameter: faces.iter().map(Face::diameter).fold(0.0, f32::max),
+        }
+    }
 }
 
 impl NearField {
@@ -126,8 +168,30 @@ impl NearField {
             let r = &mut reach[node.patch as usize];
             *r = r.max(NEAR_REACH * node.face.diameter());
         }
-        let (mut tris, mut owner, mut nodes, mut reflected, mut shapes) =
-            (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let reflected: Vec<Rgb> = mesh
+            .nodes
+            .iter()
+            .map(|node| {
+                let emission = mesh.patches[node.patch as usize].emission;
+                let (mut area, mut sum) = (0.0, Rgb::ZERO);
+                for e in node.elements.clone() {
+                    let a = mesh.element(e as usize).face.area();
+                    area += a;
+                    sum += (radiosity[e as usize] - emission) * a;
+                }
+                if area > 0.0 {
+                    sum / area
+                } else {
+                    Rgb::ZERO
+                }
+            })
+            .collect();
+        let shapes = mesh
+            .nodes
+            .iter()
+            .map(|node| Shape::of(&node.face))
+            .collect();
+        let (mut tris, mut owner, mut nodes) = (Vec::new(), Vec::new(), Vec::new());
         for (p, roots) in mesh.roots.iter().enumerate() {
             let mut stack: Vec<u32> = roots.clone().collect();
             while let Some(n) = stack.pop() {
@@ -135,20 +199,8 @@ impl NearField {
                 match node.children {
                     Some(c) if node.level < uniform[p] => stack.extend(c..c + 4),
                     _ => {
-                        let (mut area, mut sum) = (0.0, Rgb::ZERO);
-                        for e in node.elements.clone() {
-                            let a = mesh.element(e as usize).face.area();
-                            area += a;
-                            sum += (radiosity[e as usize] - mesh.patches[p].emission) * a;
-                        }
                         let k = nodes.len() as u32;
                         nodes.push(n);
-                        reflected.push(if area > 0.0 { sum / area } else { Rgb::ZERO });
-                        shapes.push(Shape {
-                            centroid: node.face.centroid(),
-                            diameter: node.face.diameter(),
-                            area: node.face.area(),
-                        });
                         let c = node.face.corners();
                         tris.push([c[0], c[1], c[2]]);
                         owner.push(k);
@@ -167,6 +219,10 @@ impl NearField {
             reflected,
             shapes,
             reach,
+            pieces: (0..mesh.element_count())
+                .map(|e| Pieces::of(&mesh.element(e).face))
+                .collect(),
+            values: Vec::new(),
         }
     }
 
@@ -185,36 +241,65 @@ impl NearField {
         // deduplicated, in node order, so the sum does not depend on the traversal).
         let mut near: Vec<(u32, f32)> = Vec::new();
         self.bvh.overlapping(&query, |t| {
-            let e = self.owner[t];
-            let distance = self.shapes[e as usize].centroid.distance(point);
+            let k = self.owner[t];
+            let distance = self.shapes[self.nodes[k as usize] as usize]
+                .centroid
+                .distance(point);
             if distance < reach {
-                near.push((e, distance));
+                near.push((k, distance));
             }
         });
-        near.sort_unstable_by_key(|&(e, _)| e);
-        near.dedup_by_key(|&mut (e, _)| e);
+        near.sort_unstable_by_key(|&(k, _)| k);
+        near.dedup_by_key(|&mut (k, _)| k);
         let (mut sum, mut share) = (Rgb::ZERO, 0.0);
-        for (e, distance) in near {
+        let mut open = Vec::new();
+        for (k, distance) in near {
             let d = distance / reach;
             let w = f64::from((2.0 - 2.0 * d).clamp(0.0, 1.0));
             if w <= 0.0 {
                 continue;
             }
-            let f = near_factor(
-                mesh,
-                self.nodes[e as usize],
-                &self.shapes[e as usize],
-                point,
-                normal,
-            );
-            sum += self.reflected[e as usize] * (w * f);
-            share += w * f;
+            open.push(self.nodes[k as usize]);
+            while let Some(n) = open.pop() {
+                let shape = &self.shapes[n as usize];
+                let node = &mesh.nodes[n as usize];
+                let opened = shape.centroid.distance(point) < OPEN_WITHIN * shape.diameter;
+                let facing = mesh.patches[node.patch as usize].normal;
+                match node.children {
+                    Some(c) if opened => open.extend(c..c + 4),
+                    None if opened && !self.values.is_empty() => {
+                        let e = node.elements.start as usize;
+                        let (at, values) = (&self.pieces[e], &self.values[e]);
+                        for (k, value) in values.iter().enumerate() {
+                            let shape = Shape {
+                                centroid: at.centroids[k],
+                                diameter: at.diameter,
+                                area: at.areas[k],
+                            };
+                            let f = near_factor(
+                                || pieces(&node.face)[k],
+                                facing,
+                                &shape,
+                                point,
+                                normal,
+                            );
+                            sum += *value * (w * f);
+                            share += w * f;
+                        }
+                    }
+                    _ => {
+                        let f = near_factor(|| node.face, facing, shape, point, normal);
+                        sum += self.reflected[n as usize] * (w * f);
+                        share += w * f;
+                    }
+                }
+            }
         }
         (sum, share.min(1.0))
     }
 }
 
-/// A near-field node's face, as the evaluation needs it.
+/// A near-field face, as the evaluation needs it.
 #[derive(Clone, Copy, Debug)]
 struct Shape {
     centroid: Vec3,
@@ -222,23 +307,43 @@ struct Shape {
     area: f64,
 }
 
-/// The form factor from `point` (unit normal `normal`) to the face of `node` (`shape`): Lambert's exact
-/// factor within [`EXACT_WITHIN`] diameters of the face, the point-to-area kernel
-/// A cosθ cosθ' / (π r²) beyond, where it is within a few per cent of it and costs a tenth.
-fn near_factor(mesh: &Mesh, node: u32, shape: &Shape, point: Vec3, normal: Vec3) -> f64 {
-    let node = &mesh.nodes[node as usize];
-    let face = &node.face;
+impl Shape {
+    fn of(face: &Face) -> Self {
+        Self {
+            centroid: face.centroid(),
+            diameter: face.diameter(),
+            area: face.area(),
+        }
+    }
+}
+
+/// The sixteen pieces of an element two quadtree steps below it, in a fixed order.
+fn pieces(face: &Face) -> [Face; PIECES] {
+    let quarters = face.split();
+    std::array::from_fn(|k| quarters[k / 4].split()[k % 4])
+}
+
+/// The form factor from `point` (unit normal `normal`) to a face (front normal `facing`, shape
+/// `shape`): Lambert's exact factor within [`EXACT_WITHIN`] diameters of the face (which
+/// `face` then gives), the point-to-area kernel A cosθ cosθ' / (π r²) beyond, where it is
+/// within a few per cent of it and costs a tenth.
+fn near_factor(
+    face: impl FnOnce() -> Face,
+    facing: Vec3,
+    shape: &Shape,
+    point: Vec3,
+    normal: Vec3,
+) -> f64 {
     let w = shape.centroid - point;
     let r2 = w.length_squared();
     if r2 > (EXACT_WITHIN * shape.diameter).powi(2) {
-        let n = mesh.patches[node.patch as usize].normal;
-        let (cos_x, cos_y) = (normal.dot(w), -n.dot(w));
+        let (cos_x, cos_y) = (normal.dot(w), -facing.dot(w));
         if cos_x <= 0.0 || cos_y <= 0.0 {
             return 0.0;
         }
         return shape.area * f64::from(cos_x * cos_y / (r2 * r2)) / std::f64::consts::PI;
     }
-    let (corners, sides) = face.corners_f64();
+    let (corners, sides) = face().corners_f64();
     point_to_polygon(point.as_dvec3(), normal.as_dvec3(), &corners[..sides])
 }
 
@@ -270,6 +375,28 @@ impl Evaluation {
             .irradiance(world, point, normal, samples, sampler);
         let (near, share) = self.near.irradiance(mesh, point, normal, patch);
         (rho * (direct + near), share)
+    }
+
+    /// The far part R of every element's indirect light and B − E at its pieces (see
+    /// [`far_radiosity`]), the pieces then shown to the near field.
+    fn settle(&mut self, world: &World, mesh: &Mesh, radiosity: &[Rgb], samples: u32) -> Vec<Rgb> {
+        let direct: Vec<[Rgb; PIECES]> = (0..mesh.element_count())
+            .into_par_iter()
+            .map(|e| {
+                let node = mesh.element(e);
+                let patch = &mesh.patches[node.patch as usize];
+                let mut sampler = Sampler::new(e as u32, u32::MAX, 0);
+                self.near.pieces[e].centroids.map(|x| {
+                    patch.reflectance
+                        * self
+                            .luminaires
+                            .irradiance(world, x, patch.normal, samples, &mut sampler)
+                })
+            })
+            .collect();
+        let (_, values) = far_radiosity(mesh, radiosity, &self.near, &direct);
+        self.near.values = values;
+        far_radiosity(mesh, radiosity, &self.near, &direct).0
     }
 }
 
@@ -398,67 +525,59 @@ pub fn render(
     settings: &RaytraceSettings,
     watch: &Watch,
 ) -> Option<Image> {
-    let evaluation = Evaluation {
+    let mut evaluation = Evaluation {
         luminaires: Luminaires::new(mesh),
         near: NearField::new(mesh, radiosity),
     };
     // The geometry of the lit mesh does not depend on the values it carries: a world over the
     // solution's lit mesh finds each element's direct light, one over the far part shades.
     let full = display::lit_mesh(mesh, radiosity);
-    let far = {
-        let world = World::new(scene, mesh, &full);
-        far_radiosity(
-            &world,
-            mesh,
-            radiosity,
-            &evaluation,
-            settings.shadow_samples,
-        )
-    };
+    let far = evaluation.settle(
+        &World::new(scene, mesh, &full),
+        mesh,
+        radiosity,
+        settings.shadow_samples,
+    );
     let lit = display::lit_mesh(mesh, &far);
     let world = World::new(scene, mesh, &lit);
     trace_image(&world, Some(&evaluation), camera, image, settings, watch)
 }
 
 /// (B(e) − E(e) − ρ(e) · (Ē_d(e) + N̄(e))) / (1 − S̄(e)) for every element: the far part of
-/// its indirect light per share of the view left to it (see the module docs); the same sample
-/// streams for any thread count.
+/// its indirect light per share of the view left to it (see the module docs), the means taken
+/// over its pieces (`direct`: ρ E_d at each); and B − E at each piece, ρ (E_d + N) + R (1 − S)
+/// there, which the near field shows to the points next to the element.
 fn far_radiosity(
-    world: &World,
     mesh: &Mesh,
     radiosity: &[Rgb],
-    evaluation: &Evaluation,
-    samples: u32,
-) -> Vec<Rgb> {
+    near_field: &NearField,
+    direct: &[[Rgb; PIECES]],
+) -> (Vec<Rgb>, Vec<[Rgb; PIECES]>) {
     (0..mesh.element_count())
         .into_par_iter()
         .map(|e| {
             let node = mesh.element(e);
             let patch = &mesh.patches[node.patch as usize];
-            let mut sampler = Sampler::new(e as u32, u32::MAX, 0);
-            let g = ELEMENT_GRID as f32;
-            let (mut near, mut share) = (Rgb::ZERO, 0.0);
-            for j in 0..ELEMENT_GRID {
-                for i in 0..ELEMENT_GRID {
-                    let x = node.face.point((i as f32 + 0.5) / g, (j as f32 + 0.5) / g);
-                    let (b, s) = evaluation.radiosity(
-                        world,
-                        mesh,
-                        x,
-                        patch.normal,
-                        node.patch,
-                        samples,
-                        &mut sampler,
-                    );
-                    near += b;
-                    share += s;
-                }
+            let at = &near_field.pieces[e];
+            let mut parts = [(Rgb::ZERO, 0.0); PIECES];
+            let (mut near, mut share, mut area) = (Rgb::ZERO, 0.0, 0.0);
+            for k in 0..PIECES {
+                let (n, s) = near_field.irradiance(mesh, at.centroids[k], patch.normal, node.patch);
+                parts[k] = (direct[e][k] + patch.reflectance * n, s);
+                let a = at.areas[k];
+                near += parts[k].0 * a;
+                share += s * a;
+                area += a;
             }
-            let points = f64::from(ELEMENT_GRID * ELEMENT_GRID);
-            let left = (1.0 - share / points).max(MIN_FAR_SHARE);
-            (radiosity[e] - patch.emission - near / points) / left
+            let reflected = radiosity[e] - patch.emission;
+            let left = (1.0 - share / area).max(MIN_FAR_SHARE);
+            let far = (reflected - near / area) / left;
+            // Where the far share was clamped the pieces' mean is not the element's: shifted
+            // back, so that the pieces only redistribute the element's light.
+            let shift = reflected - (near / area + far * (1.0 - share / area));
+            (far, parts.map(|(b, s)| b + far * (1.0 - s) + shift))
         })
-        .collect()
+        .unzip()
 }
 
 #[cfg(test)]
