@@ -77,14 +77,24 @@ use crate::{Rgb, Scene};
 const PIECES: usize = 16;
 
 /// The reach of the near field, in diameters of the largest element of the receiving patch.
-/// Measured at 256² against Mitsuba 3 (`bench --suite image`, 4 × 4-pixel blocks): reach 2 /
-/// 3 / 4 gave the Cornell box 2.19 / 1.94 / 1.70 % and the furnished room 2.24 / 1.95 /
-/// 1.79 %. At reach 2 the blocks' faces came out 20–48 % too bright over the last few pixels
-/// above the floor, where the floor in their shadow darkens them: the floor within reach was
-/// too little of what they see there. The cost grows with the nodes within reach, most on
-/// detailed meshes: the teapot's render stage took 13.7 / 19.9 / 35.8 s at reach 2 / 3 / 4
-/// (256², loaded machine); 3 keeps both image scenes within 2 %.
-const NEAR_REACH: f32 = 3.0;
+/// Measured at 256² against Mitsuba 3 (`radiosity render --width 256 --height 256`,
+/// `benches/image/error.py`, 4 × 4-pixel blocks), with the pieces:
+///
+/// | reach | Cornell, 2 527 elements | Cornell, 6 082 | furnished room, 7 576 | teapot's render stage |
+/// |---|---|---|---|---|
+/// | 3 | 2.28 % | 1.95 % | 1.25 % | 7.3 s |
+/// | 4 | 1.90 % | 1.69 % | 1.10 % | |
+/// | 5 | 1.76 % | 1.52 % | 0.96 % | 12.9 s |
+/// | 6 | 2.09 % | | 1.01 % | 21.0 s |
+/// | 8 | 4.37 % | | 1.77 % | 32.2 s |
+///
+/// Short of the reach, the blocks' faces come out 20–30 % too bright over the last few pixels
+/// above the floor, where the floor in their shadow darkens them: too little of the floor they
+/// see there is near. Beyond it, surfaces that another one hides count in the near field (it
+/// has no visibility): at reach 8 the tall block's face towards the red wall came out up to
+/// 48 % too bright. The absolute reach grows with the elements, so coarse meshes meet that
+/// limit sooner (the furnished room at `--elements 2048`: 1.42 % at reach 3, 2.18 % at 5).
+const NEAR_REACH: f32 = 5.0;
 
 /// The far part's radiosity is divided by the share of the view left to it; never by less.
 const MIN_FAR_SHARE: f64 = 0.05;
