@@ -53,7 +53,7 @@ ours() {  # ours NAME LABEL ARGS...
 }
 ours radiosity "--mode radiosity" --mode radiosity
 ours final "--mode final" --mode final
-ours final-16000 "--mode final --elements 16000" --mode final --elements 16000
+ours quality-final "--quality final" --quality final
 for spp in 4 16 64 256; do
   for dn in "" --denoise; do
     f="$out/cycles-$spp${dn:+-dn}.exr"

@@ -5,7 +5,10 @@ use radiosity::mesh::Subdivision;
 use radiosity::pipeline;
 use radiosity::solve;
 
-use crate::args::{CommonArgs, FormFactors, Solver};
+use crate::args::{CommonArgs, FormFactors, Quality, Solver};
+
+/// Elements of `--quality final`.
+const FINAL_ELEMENTS: usize = 16_000;
 
 /// Largest rendered image when `--max-memory` is not given, in bytes (8 GiB).
 const DEFAULT_IMAGE_BUDGET: u64 = 8 << 30;
@@ -16,6 +19,9 @@ const DEFAULT_IMAGE_BUDGET: u64 = 8 << 30;
 /// A form-factor option that the chosen method has no use for.
 pub fn pipeline_settings(common: &CommonArgs) -> anyhow::Result<pipeline::Settings> {
     let mut settings = pipeline::Settings::default();
+    if common.mesh.quality == Quality::Final {
+        settings.subdivision = Subdivision::Elements(FINAL_ELEMENTS);
+    }
     if let Some(n) = common.mesh.elements {
         settings.subdivision = Subdivision::Elements(usize::try_from(n).unwrap_or(usize::MAX));
     }
@@ -113,4 +119,41 @@ fn set<T>(
 /// The most memory a rendered image may take: `--max-memory`, or 8 GiB.
 pub fn memory_budget(common: &CommonArgs) -> u64 {
     common.solver.max_memory.unwrap_or(DEFAULT_IMAGE_BUDGET)
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+    use crate::args::{Cli, Command};
+
+    /// The subdivision that `radiosity solve cornell ARGS` asks for.
+    fn subdivision(args: &[&str]) -> Subdivision {
+        let cli = Cli::try_parse_from(["radiosity", "solve", "cornell"].iter().chain(args))
+            .expect("parses");
+        let Command::Solve(solve) = cli.command else {
+            panic!("not a solve: {cli:?}");
+        };
+        pipeline_settings(&solve.common)
+            .expect("valid settings")
+            .subdivision
+    }
+
+    #[test]
+    fn quality_final_is_a_finer_mesh_unless_the_elements_are_given() {
+        assert_eq!(subdivision(&[]), Subdivision::default());
+        assert_eq!(
+            subdivision(&["--quality", "final"]),
+            Subdivision::Elements(FINAL_ELEMENTS)
+        );
+        assert_eq!(
+            subdivision(&["--quality", "final", "--elements", "500"]),
+            Subdivision::Elements(500)
+        );
+        assert_eq!(
+            subdivision(&["--quality", "final", "--max-element-area", "2"]),
+            Subdivision::MaxArea(2.0)
+        );
+    }
 }

@@ -131,10 +131,9 @@ pub(super) struct Luminaires {
 /// radiosity B − E.
 #[derive(Debug)]
 pub(super) struct NearField {
-    /// One or two triangles per node, for box queries.
+    /// One degenerate triangle per node of the cut, from one corner of the node's bounding box
+    /// to the opposite one, so that box queries find each node once.
     bvh: Bvh,
-    /// The index (into `nodes`) of each triangle's node.
-    owner: Vec<u32>,
     /// The nodes of the cut.
     nodes: Vec<u32>,
     /// Mean B − E of the elements below each node of the mesh, by node index.
@@ -201,7 +200,7 @@ impl NearField {
             .iter()
             .map(|node| Shape::of(&node.face))
             .collect();
-        let (mut tris, mut owner, mut nodes) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut boxes, mut nodes) = (Vec::new(), Vec::new());
         for (p, roots) in mesh.roots.iter().enumerate() {
             let mut stack: Vec<u32> = roots.clone().collect();
             while let Some(n) = stack.pop() {
@@ -209,22 +208,15 @@ impl NearField {
                 match node.children {
                     Some(c) if node.level < uniform[p] => stack.extend(c..c + 4),
                     _ => {
-                        let k = nodes.len() as u32;
                         nodes.push(n);
-                        let c = node.face.corners();
-                        tris.push([c[0], c[1], c[2]]);
-                        owner.push(k);
-                        if let [a, _, c, d] = *c {
-                            tris.push([a, c, d]);
-                            owner.push(k);
-                        }
+                        let b = Aabb::from_points(node.face.corners());
+                        boxes.push([b.min, b.max, b.min]);
                     }
                 }
             }
         }
         Self {
-            bvh: Bvh::build(&tris),
-            owner,
+            bvh: Bvh::build(&boxes),
             nodes,
             reflected,
             shapes,
@@ -247,20 +239,14 @@ impl NearField {
             min: point - Vec3::splat(reach),
             max: point + Vec3::splat(reach),
         };
-        // The nodes within reach (a node's two triangles may both be found: sorted and
-        // deduplicated, in node order, so the sum does not depend on the traversal).
+        // The nodes within reach, each once, in the order of the (fixed) traversal.
         let mut near: Vec<(u32, f32)> = Vec::new();
-        self.bvh.overlapping(&query, |t| {
-            let k = self.owner[t];
-            let distance = self.shapes[self.nodes[k as usize] as usize]
-                .centroid
-                .distance(point);
+        self.bvh.overlapping(&query, |k| {
+            let distance = self.shapes[self.nodes[k] as usize].centroid.distance(point);
             if distance < reach {
-                near.push((k, distance));
+                near.push((k as u32, distance));
             }
         });
-        near.sort_unstable_by_key(|&(k, _)| k);
-        near.dedup_by_key(|&mut (k, _)| k);
         let (mut sum, mut share) = (Rgb::ZERO, 0.0);
         let mut open = Vec::new();
         for (k, distance) in near {
@@ -287,7 +273,7 @@ impl NearField {
                                 area: at.areas[k],
                             };
                             let f = near_factor(
-                                || pieces(&node.face)[k],
+                                || node.face.split()[k / 4].split()[k % 4],
                                 facing,
                                 &shape,
                                 point,
