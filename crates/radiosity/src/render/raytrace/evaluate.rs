@@ -228,12 +228,13 @@ impl NearField {
         }
     }
 
-    /// N(x) at `point` (unit normal `normal`) on patch `patch`, and Σ w F, the share of the
-    /// view that the near elements take: see the module docs.
-    fn irradiance(&self, mesh: &Mesh, point: Vec3, normal: Vec3, patch: u32) -> (Rgb, f64) {
+    /// N(x) at `point` (unit normal `normal`) on patch `patch`, Σ w F, the share of the view
+    /// that the near elements take (see the module docs), and whether an element the point
+    /// sees is close enough to be shown by its pieces.
+    fn irradiance(&self, mesh: &Mesh, point: Vec3, normal: Vec3, patch: u32) -> (Rgb, f64, bool) {
         let reach = self.reach[patch as usize];
         if reach <= 0.0 {
-            return (Rgb::ZERO, 0.0);
+            return (Rgb::ZERO, 0.0, false);
         }
         let query = Aabb {
             min: point - Vec3::splat(reach),
@@ -247,7 +248,7 @@ impl NearField {
                 near.push((k as u32, distance));
             }
         });
-        let (mut sum, mut share) = (Rgb::ZERO, 0.0);
+        let (mut sum, mut share, mut by_pieces) = (Rgb::ZERO, 0.0, false);
         let mut open = Vec::new();
         for (k, distance) in near {
             let d = distance / reach;
@@ -264,6 +265,7 @@ impl NearField {
                 match node.children {
                     Some(c) if opened => open.extend(c..c + 4),
                     None if opened && !self.values.is_empty() => {
+                        by_pieces = true;
                         let e = node.elements.start as usize;
                         let (at, values) = (&self.pieces[e], &self.values[e]);
                         for (k, value) in values.iter().enumerate() {
@@ -285,13 +287,14 @@ impl NearField {
                     }
                     _ => {
                         let f = near_factor(|| node.face, facing, shape, point, normal);
+                        by_pieces |= opened && f > 0.0;
                         sum += self.reflected[n as usize] * (w * f);
                         share += w * f;
                     }
                 }
             }
         }
-        (sum, share.min(1.0))
+        (sum, share.min(1.0), by_pieces)
     }
 }
 
@@ -369,7 +372,7 @@ impl Evaluation {
         let direct = self
             .luminaires
             .irradiance(world, point, normal, samples, sampler);
-        let (near, share) = self.near.irradiance(mesh, point, normal, patch);
+        let (near, share, _) = self.near.irradiance(mesh, point, normal, patch);
         (rho * (direct + near), share)
     }
 
@@ -390,9 +393,16 @@ impl Evaluation {
                 })
             })
             .collect();
-        let (_, values) = far_radiosity(mesh, radiosity, &self.near, &direct);
-        self.near.values = values;
-        far_radiosity(mesh, radiosity, &self.near, &direct).0
+        let first = far_radiosity(mesh, radiosity, &self.near, &direct, None);
+        self.near.values = first.iter().map(|f| f.1).collect();
+        let first: Vec<Option<Rgb>> = first
+            .iter()
+            .map(|&(r, _, near)| (!near).then_some(r))
+            .collect();
+        far_radiosity(mesh, radiosity, &self.near, &direct, Some(&first))
+            .into_iter()
+            .map(|f| f.0)
+            .collect()
     }
 }
 
@@ -541,29 +551,38 @@ pub fn render(
 
 /// (B(e) − E(e) − ρ(e) · (Ē_d(e) + N̄(e))) / (1 − S̄(e)) for every element: the far part of
 /// its indirect light per share of the view left to it (see the module docs), the means taken
-/// over its pieces (`direct`: ρ E_d at each); and B − E at each piece, ρ (E_d + N) + R (1 − S)
-/// there, which the near field shows to the points next to the element.
+/// over its pieces (`direct`: ρ E_d at each); B − E at each piece, ρ (E_d + N) + R (1 − S)
+/// there, which the near field shows to the points next to the element; and whether some
+/// piece sees an element close enough to be shown by its pieces. Where `known` holds an
+/// element's R already (none of its pieces sees such an element, so that the pieces change
+/// nothing), that is taken instead.
 fn far_radiosity(
     mesh: &Mesh,
     radiosity: &[Rgb],
     near_field: &NearField,
     direct: &[[Rgb; PIECES]],
-) -> (Vec<Rgb>, Vec<[Rgb; PIECES]>) {
+    known: Option<&[Option<Rgb>]>,
+) -> Vec<(Rgb, [Rgb; PIECES], bool)> {
     (0..mesh.element_count())
         .into_par_iter()
         .map(|e| {
+            if let Some(far) = known.and_then(|k| k[e]) {
+                return (far, [Rgb::ZERO; PIECES], false);
+            }
             let node = mesh.element(e);
             let patch = &mesh.patches[node.patch as usize];
             let at = &near_field.pieces[e];
             let mut parts = [(Rgb::ZERO, 0.0); PIECES];
-            let (mut near, mut share, mut area) = (Rgb::ZERO, 0.0, 0.0);
+            let (mut near, mut share, mut area, mut by_pieces) = (Rgb::ZERO, 0.0, 0.0, false);
             for k in 0..PIECES {
-                let (n, s) = near_field.irradiance(mesh, at.centroids[k], patch.normal, node.patch);
+                let (n, s, p) =
+                    near_field.irradiance(mesh, at.centroids[k], patch.normal, node.patch);
                 parts[k] = (direct[e][k] + patch.reflectance * n, s);
                 let a = at.areas[k];
                 near += parts[k].0 * a;
                 share += s * a;
                 area += a;
+                by_pieces |= p;
             }
             let reflected = radiosity[e] - patch.emission;
             let left = (1.0 - share / area).max(MIN_FAR_SHARE);
@@ -571,9 +590,13 @@ fn far_radiosity(
             // Where the far share was clamped the pieces' mean is not the element's: shifted
             // back, so that the pieces only redistribute the element's light.
             let shift = reflected - (near / area + far * (1.0 - share / area));
-            (far, parts.map(|(b, s)| b + far * (1.0 - s) + shift))
+            (
+                far,
+                parts.map(|(b, s)| b + far * (1.0 - s) + shift),
+                by_pieces,
+            )
         })
-        .unzip()
+        .collect()
 }
 
 #[cfg(test)]
