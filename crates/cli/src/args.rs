@@ -367,7 +367,7 @@ pub struct FormFactorArgs {
     /// as many per side on elements that another surface touches [default: 2]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=16))]
     pub quadrature: Option<u32>,
-    /// Shadow rays per element–source pair (ray-cast form factors) [default: 16]
+    /// Shadow rays per element–source pair, stratified (ray-cast form factors) [default: 4]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub rays: Option<u32>,
     /// Seed of the ray-cast form factors' jitter and of the hemicubes' rotations [default: 0]
