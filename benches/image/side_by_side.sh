@@ -72,7 +72,7 @@ for spp in 16 32 64 128 256 512; do
 done
 echo
 echo "Our stages (seconds, from --stats):"
-for name in radiosity final final-16000; do
+for name in radiosity final quality-final; do
   "$PY" -c 'import json, sys
 t = json.load(open(sys.argv[1]))["timings"]
 print(f"- {sys.argv[2]}: " + ", ".join(f"{k} {v:.2f}" for k, v in t.items()))' \
