@@ -628,6 +628,79 @@ vertices = [[-0.1, 2, -0.1], [0.1, 2, -0.1], [0.1, 2, 0.1], [-0.1, 2, 0.1]]
 "#;
 
     #[test]
+    fn the_pieces_keep_their_elements_mean_where_the_far_share_is_clamped() {
+        // A plate 2 cm above a floor, facing it: under the plate the floor's near field takes
+        // nearly all of its view, so its far share is clamped at MIN_FAR_SHARE; the pieces
+        // must still redistribute exactly the element's B − E, whatever the radiosity.
+        const SLIT: &str = r#"
+[materials.grey]
+reflectance = 0.5
+[materials.light]
+reflectance = 0.0
+emission = 10.0
+[[objects]]
+name = "floor"
+material = "grey"
+shape = "polygon"
+vertices = [[-1, 0, 1], [1, 0, 1], [1, 0, -1], [-1, 0, -1]]
+[[objects]]
+name = "plate"
+material = "grey"
+shape = "polygon"
+vertices = [[-0.8, 0.02, -0.8], [0.8, 0.02, -0.8], [0.8, 0.02, 0.8], [-0.8, 0.02, 0.8]]
+[[objects]]
+name = "light"
+material = "light"
+shape = "polygon"
+vertices = [[-0.1, 2, -0.1], [0.1, 2, -0.1], [0.1, 2, 0.1], [-0.1, 2, 0.1]]
+"#;
+        let scene = Scene::from_toml_str(SLIT, Path::new("slit.toml")).expect("loads");
+        let mesh = Mesh::build(&scene, Subdivision::Elements(200));
+        let radiosity: Vec<Rgb> = (0..mesh.element_count())
+            .map(|e| mesh.element_patch(e).emission + Rgb::splat(0.2 + 0.01 * (e % 7) as f64))
+            .collect();
+        let lit = display::lit_mesh(&mesh, &radiosity);
+        let world = World::new(&scene, &mesh, &lit);
+        let mut evaluation = Evaluation {
+            luminaires: Luminaires::new(&mesh),
+            near: NearField::new(&mesh, &radiosity),
+        };
+        let far = evaluation.settle(&world, &mesh, &radiosity, 16);
+        let mut clamped = 0;
+        for e in 0..mesh.element_count() {
+            let at = &evaluation.near.pieces[e];
+            let area: f64 = at.areas.iter().sum();
+            let mean = at
+                .areas
+                .iter()
+                .zip(&evaluation.near.values[e])
+                .fold(Rgb::ZERO, |sum, (a, v)| sum + *v * *a)
+                / area;
+            let want = radiosity[e] - mesh.element_patch(e).emission;
+            assert!(
+                (mean - want).abs().max_element() < 1e-9 * want.max_element().max(1.0),
+                "element {e}: pieces' mean {mean:?}, element {want:?}"
+            );
+            assert!(far[e].is_finite(), "element {e}: far part {:?}", far[e]);
+            let node = mesh.element(e);
+            let share: f64 = (0..PIECES)
+                .map(|k| {
+                    let (_, s, _) =
+                        evaluation
+                            .near
+                            .irradiance(&mesh, at.centroids[k], Vec3::Y, node.patch);
+                    s * at.areas[k]
+                })
+                .sum::<f64>()
+                / area;
+            clamped += usize::from(
+                mesh.patches[node.patch as usize].normal.y > 0.5 && 1.0 - share < MIN_FAR_SHARE,
+            );
+        }
+        assert!(clamped > 0, "no element under the plate was clamped");
+    }
+
+    #[test]
     fn penumbrae_follow_the_exact_visible_part_of_the_light() {
         // The blocker's edge x = 0.3, half-way up, hides the light's points with e_x ≤ 0.6 − x
         // from the floor point (x, 0, 0): the visible part of the light is the rectangle
