@@ -104,10 +104,10 @@ pub struct HemicubeArgs {
 /// against Mitsuba 3's, 4 × 4-pixel blocks; docs/raytracing.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Quality {
-    /// About 4 096 elements: the Cornell box 1.50 %, the furnished room 1.25 %, in 7 and 14 s.
+    /// About 4 096 elements: the Cornell box 1.40 %, the furnished room 1.24 %, in 7 and 12 s.
     Default,
-    /// About 16 000 elements: the Cornell box 1.06 % (its reference's own noise is 0.56 %),
-    /// the furnished room 0.89 %, in 31 and 42 s.
+    /// About 16 000 elements: the Cornell box 0.92 % (its reference's own noise is 0.56 %),
+    /// the furnished room 0.88 %, in about 31 and 42 s.
     Final,
 }
 
