@@ -468,8 +468,8 @@ impl<'a> View<'a> {
     /// faces, each weighted by cosθ_r cosθ_s / r² at its ends. All 20 unless the `sight` is
     /// clear (the pair refines one whose 20 rays all arrived) and the 4 quadrant rays arrive
     /// too: then 1.
-    /// Letting a unanimous 4-ray pilot decide for a fresh pair (as the matrix solvers do per
-    /// element pair) biased the Cornell box 3–8 % low here, where one link stands for a whole
+    /// Letting a unanimous 4-ray pilot decide for a fresh pair (as the matrix solvers did per
+    /// element pair until 2 December) biased the Cornell box 3–8 % low here, where one link stands for a whole
     /// subtree of pairs; trusting the parent's 20 rays alone, without the pilot, biased it
     /// 1 % high at ε = 10⁻⁵ (occluders the parent's rays missed).
     fn face_visibility(&self, r: Handle, s: Handle, sight: Sight) -> f64 {
