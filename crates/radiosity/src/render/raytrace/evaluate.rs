@@ -38,7 +38,7 @@
 //! mean), F(x → s) Lambert's exact factor to the node (unoccluded: near surfaces see each other;
 //! beyond two of the node's diameters the point kernel A cosθ cosθ' / (π r²), [`near_factor`]),
 //! w a weight falling from 1 to 0 between half and the whole of the reach
-//! ([`NEAR_REACH`] element diameters), and N̄, S̄ the means over the element's grid, so that
+//! ([`NEAR_REACH`] element diameters), and N̄, S̄ the means over the element's pieces, so that
 //! the element's mean is kept. The near surfaces hide the far ones: into a corner S(x) grows
 //! and the far part shrinks (a first version that added the near part to an interpolated far
 //! part made the corners brighter still).
@@ -278,8 +278,13 @@ impl NearField {
                                 diameter: at.diameter,
                                 area: at.areas[k],
                             };
-                            let f =
-                                near_factor(|| node.face.split()[k], facing, &shape, point, normal);
+                            let f = near_factor(
+                                || pieces(&node.face)[k],
+                                facing,
+                                &shape,
+                                point,
+                                normal,
+                            );
                             sum += *value * (w * f);
                             share += w * f;
                         }
@@ -633,29 +638,14 @@ vertices = [[-0.1, 2, -0.1], [0.1, 2, -0.1], [0.1, 2, 0.1], [-0.1, 2, 0.1]]
         // A plate 2 cm above a floor, facing it: under the plate the floor's near field takes
         // nearly all of its view, so its far share is clamped at MIN_FAR_SHARE; the pieces
         // must still redistribute exactly the element's B − E, whatever the radiosity.
-        const SLIT: &str = r#"
-[materials.grey]
-reflectance = 0.5
-[materials.light]
-reflectance = 0.0
-emission = 10.0
-[[objects]]
-name = "floor"
-material = "grey"
-shape = "polygon"
-vertices = [[-1, 0, 1], [1, 0, 1], [1, 0, -1], [-1, 0, -1]]
-[[objects]]
-name = "plate"
-material = "grey"
-shape = "polygon"
-vertices = [[-0.8, 0.02, -0.8], [0.8, 0.02, -0.8], [0.8, 0.02, 0.8], [-0.8, 0.02, 0.8]]
-[[objects]]
-name = "light"
-material = "light"
-shape = "polygon"
-vertices = [[-0.1, 2, -0.1], [0.1, 2, -0.1], [0.1, 2, 0.1], [-0.1, 2, 0.1]]
-"#;
-        let scene = Scene::from_toml_str(SLIT, Path::new("slit.toml")).expect("loads");
+        // The SHADOW scene with its blocker lowered to 2 cm, widened and turned to the floor.
+        let blocker = "vertices = [[-0.3, 1, 0.3], [0.3, 1, 0.3], [0.3, 1, -0.3], [-0.3, 1, -0.3]]";
+        assert!(SHADOW.contains(blocker));
+        let slit = SHADOW.replace(
+            blocker,
+            "vertices = [[-0.8, 0.02, -0.8], [0.8, 0.02, -0.8], [0.8, 0.02, 0.8], [-0.8, 0.02, 0.8]]",
+        );
+        let scene = Scene::from_toml_str(&slit, Path::new("slit.toml")).expect("loads");
         let mesh = Mesh::build(&scene, Subdivision::Elements(200));
         let radiosity: Vec<Rgb> = (0..mesh.element_count())
             .map(|e| mesh.element_patch(e).emission + Rgb::splat(0.2 + 0.01 * (e % 7) as f64))
