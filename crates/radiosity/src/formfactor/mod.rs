@@ -69,22 +69,12 @@ impl<'a> Geometry<'a> {
         self.mesh.nodes[self.sources[s] as usize].patch
     }
 
-    /// How far rays start and end off their surfaces, along the normals: [`OFFSET`] times the
-    /// scene's diagonal, so a ray neither hits the polygon it starts from nor the one it aims at.
+    /// How far rays start and end off their surfaces, along the normals ([`Bvh::lift`]).
     #[must_use]
     pub fn lift(&self) -> f32 {
-        let b = self.bvh.bounds();
-        let diagonal = (b.max - b.min).length();
-        if diagonal.is_finite() && diagonal > 0.0 {
-            OFFSET * diagonal
-        } else {
-            OFFSET
-        }
+        self.bvh.lift()
     }
 }
-
-/// Ray-end lift relative to the scene's bounding-box diagonal ([`Geometry::lift`]).
-const OFFSET: f32 = 1e-4;
 
 /// A way of computing form factors between elements (receivers) and sources.
 ///

@@ -62,9 +62,6 @@ const MIN_EMITTER_SAMPLES: usize = 4;
 /// shadow but the strongest (+1.66 %).
 const JUMP: f64 = 0.05;
 
-/// Ray ends lift off their surfaces by this fraction of the scene's diagonal.
-const OFFSET: f32 = 1e-4;
-
 /// One point on an emitter: where, its front normal, and the exitance times the area it stands
 /// for, over π.
 struct Sample {
@@ -86,8 +83,7 @@ impl Mesh {
         if samples.is_empty() {
             return;
         }
-        let b = bvh.bounds();
-        let lift = OFFSET * (b.max - b.min).length();
+        let lift = bvh.lift();
         // A stopped run measures nothing more: no jump, no split.
         let direct = |mesh: &Mesh, n: u32| {
             if stop() {

@@ -137,14 +137,7 @@ impl Samples {
     /// Σ area · cos over the sample points whose front (either side when two-sided) faces
     /// `eye` and that `eye` sees.
     fn seen_from(&self, eye: Vec3) -> f32 {
-        let b = self.bvh.bounds();
-        let diagonal = (b.max - b.min).length();
-        let lift = 1e-4
-            * if diagonal.is_finite() {
-                diagonal.max(1e-6)
-            } else {
-                1.0
-            };
+        let lift = self.bvh.lift();
         self.points
             .iter()
             .map(|&(p, n, area, two_sided)| {

@@ -36,8 +36,6 @@ use crate::{Rgb, Scene};
 
 /// Normals further apart than this (degrees) meet at a crease and are not averaged.
 pub const CREASE_DEGREES: f32 = 40.0;
-/// Ray offsets from surfaces, as a fraction of the scene's bounding-box diagonal.
-const OFFSET_FRACTION: f32 = 1e-5;
 
 /// A ray's hit on the lit mesh, with what shading needs.
 #[derive(Clone, Copy, Debug)]
@@ -126,7 +124,7 @@ impl<'a> World<'a> {
         } else {
             1.0
         };
-        let eps = (diagonal * OFFSET_FRACTION).max(1e-6);
+        let eps = front.lift();
 
         let mut world = Self {
             lit,

@@ -188,18 +188,11 @@ impl<'a> View<'a> {
     /// Bundles the three and derives the shadow-ray offset.
     #[must_use]
     pub fn new(mesh: &'a Mesh, clusters: &'a Clusters, bvh: &'a Bvh) -> Self {
-        let b = bvh.bounds();
-        let diagonal = (b.max - b.min).length();
-        let lift = if diagonal.is_finite() && diagonal > 0.0 {
-            1e-4 * diagonal
-        } else {
-            1e-4
-        };
         Self {
             mesh,
             clusters,
             bvh,
-            lift,
+            lift: bvh.lift(),
         }
     }
 
