@@ -173,7 +173,7 @@ pub fn solve_controlled(
     timings.solve = solution.solve_seconds;
     let (mesh, solution) = solution.on_finest(mesh);
     let absorbed = absorbed_power(&mesh, &solution);
-    let lit = display::lit_mesh(&mesh, &solution.radiosity);
+    let lit = display::lit_mesh_extrapolating_borders(&mesh, &solution.radiosity);
     Ok(Solved {
         scene,
         mesh,

@@ -7,6 +7,10 @@
 //! creases (a wall meeting the floor) stay sharp. Vertices themselves are shared within a
 //! *surface* (same object, side and plane), where the T-vertex search below runs.
 //!
+//! On a surface's border (an open edge, a crease) averaging flattens the light, which keeps
+//! changing up to the edge; [`lit_mesh_extrapolating_borders`] extrapolates those vertices from
+//! the elements' means instead, and is what the pipeline and the evaluated picture show.
+//!
 //! Where neighbouring elements differ in quadtree level, the finer side has a vertex in the
 //! middle of the coarser element's edge: a T-vertex. Drawing the coarse element as two plain
 //! triangles would leave a crack (geometric, and a jump in shading). Because quadtree vertices
