@@ -114,7 +114,7 @@ impl Near {
 fn cap_at_hemisphere(row: &mut [f32], pieces: &mut [Piece]) {
     let sum: f64 = row.iter().map(|&f| f64::from(f)).sum::<f64>()
         + pieces.iter().map(|p| f64::from(p.factor)).sum::<f64>();
-    if sum > 1.0 && std::env::var_os("NOCAP").is_none() {
+    if sum > 1.0 {
         let scale = (1.0 / sum) as f32;
         row.iter_mut().for_each(|f| *f *= scale);
         pieces.iter_mut().for_each(|p| p.factor *= scale);

@@ -488,7 +488,7 @@ impl<'a> View<'a> {
             );
             arrived += u32::from(cast(from, to));
         }
-        if sight == Sight::Clear && arrived == PILOT && std::env::var_os("NOCLEAR").is_none() {
+        if sight == Sight::Clear && arrived == PILOT {
             return 1.0;
         }
         let offset = (pair % u64::from(RAYS)) as u32;
