@@ -30,7 +30,8 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::{Geometry, Receiver};
-use crate::accel::Ray;
+use crate::accel::{Bvh, Ray};
+use crate::mesh::Mesh;
 
 /// Probe rays per point ([`probes`]).
 const PROBES: usize = 9;
@@ -40,26 +41,20 @@ const GRID: u32 = 4;
 
 /// The open fraction u of every element, in element order (see the module docs).
 pub(crate) fn exposure(g: &Geometry) -> Vec<f64> {
-    let mesh = g.mesh;
-    // Which sides of each polygon reflect: [front, back].
-    let polygons = mesh.patches.iter().map(|p| p.polygon as usize + 1).max();
-    let mut sides = vec![[false; 2]; polygons.unwrap_or(0)];
-    for p in &mesh.patches {
-        sides[p.polygon as usize][usize::from(p.back)] = true;
-    }
-    let lift = g.lift();
-    let open = |origin: Vec3, dir: Vec3| {
-        let Some(hit) = g.bvh.closest_hit(&Ray::new(origin, dir), f32::INFINITY) else {
-            return true;
-        };
-        let t = &mesh.triangles[hit.triangle as usize];
-        let front = (t[1] - t[0]).cross(t[2] - t[0]).dot(dir) < 0.0;
-        sides[mesh.triangle_polygon[hit.triangle as usize] as usize][usize::from(!front)]
-    };
-    (0..mesh.element_count())
-        .into_par_iter()
-        .map_init(Receiver::default, |receiver, e| {
-            let node = mesh.element(e);
+    open_fraction(g.mesh, g.bvh, &g.mesh.elements)
+}
+
+/// The open fraction u of each of the mesh nodes `nodes`, in that order: the area-weighted
+/// share of a 4 × 4 grid of its points from which some probe finds the open.
+pub(crate) fn open_fraction(mesh: &Mesh, bvh: &Bvh, nodes: &[u32]) -> Vec<f64> {
+    let reflecting = Reflecting::new(mesh);
+    let lift = bvh.lift();
+    // A probe that escapes, or meets a side that reflects, finds the open.
+    let open = |origin: Vec3, dir: Vec3| reflecting.hit(bvh, origin, dir) != Some(false);
+    nodes
+        .par_iter()
+        .map_init(Receiver::default, |receiver, &n| {
+            let node = &mesh.nodes[n as usize];
             let normal = mesh.patches[node.patch as usize].normal;
             let directions = probes(normal);
             receiver.set(&node.face, GRID);
@@ -75,6 +70,35 @@ pub(crate) fn exposure(g: &Geometry) -> Vec<f64> {
             (1.0 - buried).max(0.0)
         })
         .collect()
+}
+
+/// Which side of each polygon reflects: a side with a patch (the front of every polygon,
+/// the back of two-sided ones).
+pub(crate) struct Reflecting<'a> {
+    mesh: &'a Mesh,
+    /// [front, back] of every polygon.
+    sides: Vec<[bool; 2]>,
+}
+
+impl<'a> Reflecting<'a> {
+    pub(crate) fn new(mesh: &'a Mesh) -> Self {
+        let polygons = mesh.patches.iter().map(|p| p.polygon as usize + 1).max();
+        let mut sides = vec![[false; 2]; polygons.unwrap_or(0)];
+        for p in &mesh.patches {
+            sides[p.polygon as usize][usize::from(p.back)] = true;
+        }
+        Self { mesh, sides }
+    }
+
+    /// What the ray from `origin` along `dir` meets first: `None` if nothing, else whether
+    /// the side it meets reflects.
+    pub(crate) fn hit(&self, bvh: &Bvh, origin: Vec3, dir: Vec3) -> Option<bool> {
+        let hit = bvh.closest_hit(&Ray::new(origin, dir), f32::INFINITY)?;
+        let t = &self.mesh.triangles[hit.triangle as usize];
+        let front = (t[1] - t[0]).cross(t[2] - t[0]).dot(dir) < 0.0;
+        let polygon = self.mesh.triangle_polygon[hit.triangle as usize] as usize;
+        Some(self.sides[polygon][usize::from(!front)])
+    }
 }
 
 /// The probe directions about the normal `n`: `n` itself, four at 60° from it and four more,

@@ -199,7 +199,7 @@ pub fn run(
     let problem = Problem::new(mesh, &[], Method::Hierarchical, control.context);
     let mut session = Session::new(control, problem, Method::Hierarchical)?;
     let clusters = Clusters::build(mesh);
-    let mut state = State::new(mesh, &clusters);
+    let mut state = State::new(mesh, &clusters, bvh);
     // Σ A·|E| over the elements, each channel reduced by `channels`.
     let power = |channels: fn(Rgb) -> f64| -> f64 {
         mesh.elements
@@ -247,7 +247,7 @@ pub fn run(
             .as_ref()
             .unwrap_or_else(|| unreachable!("checked by Session::new"));
         mesh.refine(&snap.splits);
-        state.grow(mesh);
+        state.grow(mesh, bvh);
         let fits = snap.state.node_b.len() == mesh.nodes.len()
             && snap.state.cluster_b.len() == clusters.nodes.len();
         if !fits {
@@ -257,9 +257,14 @@ pub fn run(
         }
         state = State {
             node_area: std::mem::take(&mut state.node_area),
+            node_probed: std::mem::take(&mut state.node_probed),
+            node_open: std::mem::take(&mut state.node_open),
+            node_shine: std::mem::take(&mut state.node_shine),
             ..snap.state.clone()
         };
         (links, splits, peak) = (snap.links.clone(), snap.splits.clone(), snap.peak);
+        state.bury(mesh, &clusters, &links);
+        state.pull(mesh, &clusters);
         (out.iterations, out.residual) = (it.iterations, it.residual);
         (out.refine_seconds, out.solve_seconds) = snap.seconds;
         out.history.clone_from(&snap.history);
@@ -323,7 +328,7 @@ pub fn run(
                 break;
             }
             mesh.refine(&round.splits);
-            state.grow(mesh);
+            state.grow(mesh, bvh);
             splits.extend_from_slice(&round.splits);
             refined += round.splits.len() as u64;
             if display {
@@ -332,6 +337,7 @@ pub fn run(
             }
         }
         links.sort_unstable_by_key(|l| (l.receiver, l.source));
+        state.bury(mesh, &clusters, &links);
         out.refine_seconds += start.elapsed().as_secs_f64();
         progress.advance(1);
         // Solve from the current radiosity, unless the links did not change.
@@ -363,6 +369,9 @@ pub fn run(
                 links: links.clone(),
                 state: State {
                     node_area: Vec::new(),
+                    node_probed: Vec::new(),
+                    node_open: Vec::new(),
+                    node_shine: Vec::new(),
                     ..state.clone()
                 },
                 history: out.history.clone(),
