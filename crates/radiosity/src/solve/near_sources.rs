@@ -110,6 +110,57 @@ pub(super) fn row(
     }
 }
 
+/// The sources that receiver `element` opens, for shooting: every opened piece of each, with
+/// its factor, appended to `out` as (source, piece) in source order. Progressive refinement
+/// shoots a source's pieces with their own unshot radiosity to the receivers that open it
+/// ([`super::progressive`]); the shared sources' factors are its column's.
+pub(super) fn opened(
+    g: &Geometry,
+    ff: &dyn FormFactors,
+    element: usize,
+    out: &mut Vec<(u32, Piece)>,
+    scratch: &mut Scratch,
+) {
+    let mesh = g.mesh;
+    let receiver = mesh.element(element);
+    let at = Receiver {
+        centroid: receiver.face.centroid().as_dvec3(),
+        patch: receiver.patch,
+    };
+    let Scratch {
+        cut,
+        shared,
+        values,
+    } = scratch;
+    cut.clear();
+    shared.clear();
+    // `shared` holds the source each piece comes from.
+    for (s, &node) in g.sources.iter().enumerate() {
+        if at.opens(mesh, node) {
+            let first = cut.len();
+            open(mesh, &at, node, cut, shared);
+            shared[first..].fill(Some(s as u32));
+        }
+    }
+    if cut.is_empty() {
+        return;
+    }
+    values.clear();
+    values.resize(cut.len(), 0.0);
+    ff.row(&Geometry::new(mesh, g.bvh, cut), element, values);
+    for ((&node, &s), &f) in cut.iter().zip(shared.iter()).zip(values.iter()) {
+        if let (Some(s), true) = (s, f != 0.0) {
+            out.push((
+                s,
+                Piece {
+                    elements: mesh.nodes[node as usize].elements.clone(),
+                    factor: f,
+                },
+            ));
+        }
+    }
+}
+
 /// The receiving element, as far as opening goes.
 struct Receiver {
     centroid: DVec3,

@@ -22,7 +22,7 @@
 //!   - the gathering solvers: B, the iteration count and **the form-factor rows computed so
 //!     far** (all of them once the matrix is complete), so a resumed run computes only the
 //!     missing rows; each row depends on its element only;
-//!   - progressive refinement: B, the irradiance received, the unshot radiosity per source
+//!   - progressive refinement: B, the irradiance received, the unshot radiosity per element
 //!     and the link count;
 //!   - hierarchical radiosity: the refinement replayed (the leaves split, in order), the links,
 //!     and the push-pull state of every node and cluster, at the last whole pass.
@@ -119,7 +119,7 @@ pub(super) struct Iterate {
     pub radiosity: Vec<Rgb>,
     /// Irradiance gathered so far per element (progressive; empty otherwise).
     pub irradiance: Vec<Rgb>,
-    /// Unshot radiosity per source (progressive; empty otherwise).
+    /// Unshot radiosity per element (progressive; empty otherwise).
     pub unshot: Vec<Rgb>,
     /// The refined hierarchy (hierarchical solver).
     pub hierarchy: Option<Snapshot>,
@@ -218,7 +218,7 @@ impl<'a> Session<'a> {
             let hierarchical = method == Method::Hierarchical;
             let (radiosity, irradiance, unshot) = match method {
                 Method::Hierarchical => (0, 0, 0),
-                Method::Progressive => (problem.elements, problem.elements, problem.sources),
+                Method::Progressive => (problem.elements, problem.elements, problem.elements),
                 Method::Jacobi | Method::GaussSeidel => (problem.elements, 0, 0),
             };
             let matrix_fits = cp
