@@ -110,9 +110,12 @@ impl Walk {
     }
 
     /// Visits the current node or leaf and moves to the next; returns `true` when the walk is
-    /// over (with `ANY`, as soon as anything is hit).
+    /// over (with `ANY`, as soon as anything is hit). With `DEFER` (the interleaved queries),
+    /// an occlusion step prefetches the children it enters and leaves their leaves to steps of
+    /// their own, so that a leaf's cache misses overlap with the other rays' steps instead of
+    /// stalling this one; alone, a ray gains nothing from that and tests leaves at once.
     #[inline(always)]
-    fn step<const ANY: bool, const STACK: usize>(
+    fn step<const ANY: bool, const STACK: usize, const DEFER: bool>(
         &mut self,
         bvh: &Bvh,
         stack: &mut Stack<STACK>,
@@ -128,19 +131,29 @@ impl Walk {
             let node = &bvh.nodes[cur as usize];
             let (near, mask) = node.slabs(self.o, self.inv, self.near, self.best_t);
             if ANY {
+                if DEFER {
+                    // Interleaved: ask for every child entered now, and visit leaves as steps
+                    // of their own, so that the misses overlap with the other rays' steps.
+                    prefetch_mask(bvh, node, mask);
+                }
                 if self.by_area {
-                    // Leaves are tested at once, interior children visited largest box
-                    // first, both in the node's precomputed area order (no areas computed,
-                    // no sort).
+                    // Leaves are tested at once (or, with `DEFER`, visited first), interior
+                    // children visited largest box first, both in the node's precomputed area
+                    // order (no areas computed, no sort).
                     let mut todo = [0u32; WIDTH];
                     let mut n = 0;
+                    let mut leaves = [0u32; WIDTH];
+                    let mut n_leaves = 0;
                     for k in node.by_area() {
                         if mask >> k & 1 == 0 {
                             continue;
                         }
                         let c = node.child[k];
                         if is_leaf(c) {
-                            if self.leaf::<ANY>(bvh, c) {
+                            if DEFER {
+                                leaves[n_leaves] = c;
+                                n_leaves += 1;
+                            } else if self.leaf::<ANY>(bvh, c) {
                                 return true;
                             }
                             continue;
@@ -148,13 +161,22 @@ impl Walk {
                         todo[n] = c;
                         n += 1;
                     }
-                    if n > 0 {
-                        // Push all but the largest, the smallest on the bottom.
-                        for &c in todo[1..n].iter().rev() {
+                    // Go on with the first to visit (a leaf, else the largest interior child)
+                    // and push the others, the last to visit on the bottom.
+                    let (first, interior) = if n_leaves > 0 {
+                        (leaves[0], &todo[..n])
+                    } else if n > 0 {
+                        (todo[0], &todo[1..n])
+                    } else {
+                        (0, &todo[..0])
+                    };
+                    if n + n_leaves > 0 {
+                        let later = leaves[..n_leaves.max(1)][1..].iter();
+                        for &c in interior.iter().rev().chain(later.rev()) {
                             stack[self.sp] = (c, 0.0);
                             self.sp += 1;
                         }
-                        self.cur = todo[0];
+                        self.cur = first;
                         return false;
                     }
                 } else {
@@ -169,7 +191,7 @@ impl Walk {
                             continue;
                         }
                         let c = node.child[k];
-                        if is_leaf(c) {
+                        if is_leaf(c) && !DEFER {
                             if self.leaf::<ANY>(bvh, c) {
                                 return true;
                             }
@@ -388,7 +410,7 @@ impl Bvh {
         }
         let mut walk = Walk::new(ray, t_max, self);
         let mut stack = [(0, 0.0); STACK];
-        while !walk.step::<ANY, STACK>(self, &mut stack) {}
+        while !walk.step::<ANY, STACK, false>(self, &mut stack) {}
         walk.hit(self)
     }
 
@@ -421,7 +443,7 @@ impl Bvh {
         }
         while active > 0 {
             for ((walk, owner), stack) in walks.iter_mut().zip(&mut owner).zip(&mut stacks) {
-                if *owner == usize::MAX || !walk.step::<ANY, STACK>(self, stack) {
+                if *owner == usize::MAX || !walk.step::<ANY, STACK, true>(self, stack) {
                     continue;
                 }
                 done(*owner, walk.hit(self));
