@@ -111,9 +111,12 @@ impl Walk {
 
     /// Visits the current node or leaf and moves to the next; returns `true` when the walk is
     /// over (with `ANY`, as soon as anything is hit). With `DEFER` (the interleaved queries),
-    /// an occlusion step prefetches the children it enters and leaves their leaves to steps of
-    /// their own, so that a leaf's cache misses overlap with the other rays' steps instead of
-    /// stalling this one; alone, a ray gains nothing from that and tests leaves at once.
+    /// a step prefetches every child it enters, and an occlusion step leaves its leaves to
+    /// steps of their own, so that their cache misses overlap with the other rays' steps
+    /// instead of stalling this one; alone, a ray gains nothing from that and tests leaves at
+    /// once. (Measured on the closed room, whose walls every ray finds in the first leaves it
+    /// meets, the deferral makes interleaved occlusion 0.6× as fast; the one-ray query is the
+    /// one to use there.)
     #[inline(always)]
     fn step<const ANY: bool, const STACK: usize, const DEFER: bool>(
         &mut self,
@@ -212,9 +215,11 @@ impl Walk {
             } else if mask != 0 {
                 let k0 = mask.trailing_zeros() as usize;
                 let rest = mask & (mask - 1);
-                if rest != 0 {
+                if rest != 0 || DEFER {
                     // Several children to visit: bring all of them in at once rather than
-                    // one miss after another.
+                    // one miss after another; interleaved, even one child gains, as the
+                    // other rays' steps run before it is visited (1M triangles, incoherent
+                    // rays: 1.16–1.45× faster).
                     prefetch_mask(bvh, node, mask);
                 }
                 if rest == 0 {
