@@ -40,6 +40,10 @@ use super::node::{is_leaf, leaf_range, Node, WIDTH};
 use super::packet::{Tri4, LANES};
 use super::ray::{Hit, Ray};
 
+/// Size of a hierarchy that stays in a core's cache (a typical L2): up to it the interleaved
+/// queries walk their rays in turn without prefetching.
+const IN_CACHE: usize = 1 << 20;
+
 /// Rays walked in turn by the batched queries (2 and 8 measured slower than 4; see
 /// `benches/README.md`).
 pub const INTERLEAVE: usize = 4;
@@ -384,14 +388,14 @@ impl Bvh {
     /// When the three slices differ in length.
     pub fn closest_hits(&self, rays: &[Ray], t_max: &[f32], out: &mut [Option<Hit>]) {
         assert!(rays.len() == t_max.len() && rays.len() == out.len());
+        let done = |k: usize, hit: Option<Hit>| out[k] = hit;
         isa::run(
             #[inline(always)]
-            || {
-                if self.stack_need < SHALLOW_STACK {
-                    self.interleave::<false, SHALLOW_STACK>(rays, t_max, |k, hit| out[k] = hit);
-                } else {
-                    self.interleave::<false, DEEP_STACK>(rays, t_max, |k, hit| out[k] = hit);
-                }
+            || match (self.stack_need < SHALLOW_STACK, self.in_cache()) {
+                (true, true) => self.interleave::<false, SHALLOW_STACK, false>(rays, t_max, done),
+                (true, false) => self.interleave::<false, SHALLOW_STACK, true>(rays, t_max, done),
+                (false, true) => self.interleave::<false, DEEP_STACK, false>(rays, t_max, done),
+                (false, false) => self.interleave::<false, DEEP_STACK, true>(rays, t_max, done),
             },
         );
     }
@@ -403,20 +407,23 @@ impl Bvh {
     /// When the three slices differ in length.
     pub fn occluded_many(&self, rays: &[Ray], t_max: &[f32], out: &mut [bool]) {
         assert!(rays.len() == t_max.len() && rays.len() == out.len());
+        let done = |k: usize, hit: Option<Hit>| out[k] = hit.is_some();
         isa::run(
             #[inline(always)]
-            || {
-                if self.stack_need < SHALLOW_STACK {
-                    self.interleave::<true, SHALLOW_STACK>(rays, t_max, |k, hit| {
-                        out[k] = hit.is_some();
-                    });
-                } else {
-                    self.interleave::<true, DEEP_STACK>(rays, t_max, |k, hit| {
-                        out[k] = hit.is_some();
-                    });
-                }
+            || match (self.stack_need < SHALLOW_STACK, self.in_cache()) {
+                (true, true) => self.interleave::<true, SHALLOW_STACK, false>(rays, t_max, done),
+                (true, false) => self.interleave::<true, SHALLOW_STACK, true>(rays, t_max, done),
+                (false, true) => self.interleave::<true, DEEP_STACK, false>(rays, t_max, done),
+                (false, false) => self.interleave::<true, DEEP_STACK, true>(rays, t_max, done),
             },
         );
+    }
+
+    /// Whether the whole hierarchy fits in [`IN_CACHE`] bytes: then a walk waits for no
+    /// memory, and the interleaved queries neither prefetch nor defer leaves (`Walk::step`'s
+    /// `DEFER`), which would only add work (the Cornell box's interleaved occlusion at 0.6×).
+    fn in_cache(&self) -> bool {
+        self.memory_bytes() <= IN_CACHE
     }
 
     /// One ray's walk to its end.
@@ -434,7 +441,7 @@ impl Bvh {
     /// The walks of all `rays`, [`INTERLEAVE`] at a time, one step each in turn; `done` gets
     /// each ray's index and result.
     #[inline(always)]
-    fn interleave<const ANY: bool, const STACK: usize>(
+    fn interleave<const ANY: bool, const STACK: usize, const DEFER: bool>(
         &self,
         rays: &[Ray],
         t_max: &[f32],
@@ -460,7 +467,7 @@ impl Bvh {
         }
         while active > 0 {
             for ((walk, owner), stack) in walks.iter_mut().zip(&mut owner).zip(&mut stacks) {
-                if *owner == usize::MAX || !walk.step::<ANY, STACK, true>(self, stack) {
+                if *owner == usize::MAX || !walk.step::<ANY, STACK, DEFER>(self, stack) {
                     continue;
                 }
                 done(*owner, walk.hit(self));
