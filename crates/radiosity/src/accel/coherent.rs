@@ -35,7 +35,7 @@
 use super::bvh::{Bvh, DEEP_STACK, SHALLOW_STACK};
 use super::isa;
 use super::node::{is_leaf, leaf_range, RAYS, WIDTH};
-use super::packet::LANES;
+use super::packet::{Tri4, LANES};
 use super::ray::{Hit, Ray};
 use super::traverse::{slabs, worst_first};
 use glam::Vec3;
@@ -183,6 +183,18 @@ impl Rays {
         let mut found = false;
         #[cfg(feature = "count")]
         crate::accel::COUNT_PACKETS.fetch_add(count as u64, std::sync::atomic::Ordering::Relaxed);
+        if !ANY && count == 2 {
+            // Both packets as eight lanes, as the one-ray closest hit does.
+            let pair: &[Tri4; 2] = bvh.packets[first..first + 2]
+                .try_into()
+                .expect("two packets");
+            let hit = Tri4::intersect_pair(pair, self.o[r], self.d[r], self.best_t[r]);
+            if let Some((lane, t, u, v)) = hit {
+                self.best_t[r] = t;
+                self.best[r] = Some((first * LANES + lane, u, v));
+            }
+            return hit.is_some();
+        }
         for (k, packet) in bvh.packets[first..first + count].iter().enumerate() {
             if let Some((lane, t, u, v)) = packet.intersect(self.o[r], self.d[r], self.best_t[r]) {
                 self.best_t[r] = t;

@@ -96,19 +96,30 @@ fn avx2<R>(f: impl FnOnce() -> R) -> R {
     f()
 }
 
-/// Asks the cache for the line holding `x` ahead of its use; no effect on any result.
-/// (Measured on the 1M-triangle scenes, incoherent closest hits, 1 thread: 3–9 % faster when
-/// a node's hit children are all prefetched before the nearest is entered.)
+/// Asks the cache for every 64-byte line that `x` spans, ahead of its use (a node's two; a
+/// leaf's triangle packets, 144 bytes each, start mid-line and span three); no effect on any
+/// result. (Measured on the 1M-triangle scenes, incoherent closest hits, 1 thread: 3–9 %
+/// faster when a node's hit children are all prefetched before the nearest is entered.)
 #[inline(always)]
-pub(super) fn prefetch<T>(x: &T) {
+pub(super) fn prefetch<T: ?Sized>(x: &T) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        // SAFETY: a prefetch is a hint that reads nothing the program can observe, and the
-        // `sse` feature it is declared with belongs to every x86-64 processor.
-        #[allow(unsafe_code)]
-        unsafe {
-            _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(x).cast());
+        let start = std::ptr::from_ref(x).cast::<i8>();
+        let end = start as usize + std::mem::size_of_val(x);
+        // From the line holding the first byte to the one holding the last.
+        let mut line = start.wrapping_sub(start as usize & 63);
+        while (line as usize) < end {
+            // SAFETY: a prefetch is a hint that reads nothing the program can observe (the
+            // address is never dereferenced), and the `sse` feature it is declared with
+            // belongs to every x86-64 processor.
+            #[allow(unsafe_code)]
+            unsafe {
+                _mm_prefetch::<_MM_HINT_T0>(line);
+            }
+            line = line.wrapping_add(64);
         }
     }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = x;
 }

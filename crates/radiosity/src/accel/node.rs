@@ -115,6 +115,11 @@ pub(super) struct Node {
     pub(super) child: [u32; WIDTH],
     /// Bit k set when slot k holds a child (unused slots have an empty box).
     valid: u32,
+    /// The slots by the half area of their quantized boxes, largest first (equal areas in
+    /// slot order), three bits per slot from the low end: the order in which occlusion visits
+    /// a node's children, precomputed so that a step neither computes areas nor sorts
+    /// (it fills four of the node's 20 spare bytes).
+    area_order: u32,
 }
 
 impl Node {
@@ -175,13 +180,35 @@ impl Node {
                 valid |= 1 << k;
             }
         }
-        Self {
+        let mut node = Self {
             origin,
             step,
             q,
             child: refs,
             valid,
+            area_order: 0,
+        };
+        let mut slots: [usize; WIDTH] = std::array::from_fn(|k| k);
+        // Stable: equal areas keep slot order (unused slots, never hit, count as 0).
+        let area = |k: usize| {
+            if node.has_child(k) {
+                node.half_area(k)
+            } else {
+                0.0
+            }
+        };
+        slots.sort_by(|&a, &b| area(b).total_cmp(&area(a)));
+        for (i, &k) in slots.iter().enumerate() {
+            node.area_order |= (k as u32) << (3 * i);
         }
+        node
+    }
+
+    /// The child slots from the largest box to the smallest (see `area_order`).
+    #[inline(always)]
+    pub(super) fn by_area(&self) -> impl Iterator<Item = usize> {
+        let order = self.area_order;
+        (0..WIDTH).map(move |i| (order >> (3 * i) & 7) as usize)
     }
 
     /// Slab tests of all children against the ray o + t·d with t in (0, `t_max`), lane by
@@ -410,6 +437,26 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    #[test]
+    fn area_order_is_a_permutation_largest_first() {
+        let mut rng = crate::hash::SplitMix(7);
+        let mut v = || rng.next_f32() * 2.0 - 1.0;
+        for n in 0..=WIDTH {
+            let boxes: Vec<Aabb> = (0..n)
+                .map(|_| Aabb::from_points(&[Vec3::new(v(), v(), v()), Vec3::new(v(), v(), v())]))
+                .collect();
+            let node = Node::new(&boxes, &[0; WIDTH]);
+            let order: Vec<usize> = node.by_area().collect();
+            let mut sorted = order.clone();
+            sorted.sort_unstable();
+            assert_eq!(sorted, (0..WIDTH).collect::<Vec<_>>());
+            // The used slots first, by falling area.
+            let used: Vec<f32> = order[..n].iter().map(|&k| node.half_area(k)).collect();
+            assert!(order[..n].iter().all(|&k| node.has_child(k)));
+            assert!(used.windows(2).all(|w| w[0] >= w[1]), "{used:?}");
         }
     }
 
