@@ -306,10 +306,13 @@ impl Node {
         }
     }
 
-    /// Half the surface area of child `k`'s box.
+    /// Half the surface area of child `k`'s box. (A box flat along an axis whose step vanishes
+    /// next to the origin quantizes to planes lo = 255, hi = 0, all at the origin: no extent.)
     #[inline(always)]
     pub(super) fn half_area(&self, k: usize) -> f32 {
-        let side = |a: usize| f32::from(self.q[2 * a + 1][k] - self.q[2 * a][k]) * self.step[a];
+        let side = |a: usize| {
+            f32::from(self.q[2 * a + 1][k].saturating_sub(self.q[2 * a][k])) * self.step[a]
+        };
         let (dx, dy, dz) = (side(0), side(1), side(2));
         dx * dy + dy * dz + dz * dx
     }
