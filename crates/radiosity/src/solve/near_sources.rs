@@ -46,7 +46,17 @@ pub struct Piece {
     pub factor: f32,
 }
 
-/// Reusable buffers for [`row`].
+impl Piece {
+    /// Quadtree node `node` as a piece with the factor `factor`.
+    fn of(mesh: &Mesh, node: u32, factor: f32) -> Self {
+        Self {
+            elements: mesh.nodes[node as usize].elements.clone(),
+            factor,
+        }
+    }
+}
+
+/// Reusable buffers for [`row`] and [`opened`].
 #[derive(Debug, Default)]
 pub(super) struct Scratch {
     /// The receiver's cut.
@@ -68,11 +78,7 @@ pub(super) fn row(
     scratch: &mut Scratch,
 ) {
     let mesh = g.mesh;
-    let receiver = mesh.element(element);
-    let at = Receiver {
-        centroid: receiver.face.centroid().as_dvec3(),
-        patch: receiver.patch,
-    };
+    let at = Receiver::of(mesh, element);
     let Scratch {
         cut,
         shared,
@@ -101,10 +107,7 @@ pub(super) fn row(
     for ((&node, &s), &f) in cut.iter().zip(shared.iter()).zip(values.iter()) {
         match s {
             Some(s) => out[s as usize] = f,
-            None if f != 0.0 => pieces.push(Piece {
-                elements: mesh.nodes[node as usize].elements.clone(),
-                factor: f,
-            }),
+            None if f != 0.0 => pieces.push(Piece::of(mesh, node, f)),
             None => {}
         }
     }
@@ -122,11 +125,7 @@ pub(super) fn opened(
     scratch: &mut Scratch,
 ) {
     let mesh = g.mesh;
-    let receiver = mesh.element(element);
-    let at = Receiver {
-        centroid: receiver.face.centroid().as_dvec3(),
-        patch: receiver.patch,
-    };
+    let at = Receiver::of(mesh, element);
     let Scratch {
         cut,
         shared,
@@ -150,13 +149,7 @@ pub(super) fn opened(
     ff.row(&Geometry::new(mesh, g.bvh, cut), element, values);
     for ((&node, &s), &f) in cut.iter().zip(shared.iter()).zip(values.iter()) {
         if let (Some(s), true) = (s, f != 0.0) {
-            out.push((
-                s,
-                Piece {
-                    elements: mesh.nodes[node as usize].elements.clone(),
-                    factor: f,
-                },
-            ));
+            out.push((s, Piece::of(mesh, node, f)));
         }
     }
 }
@@ -168,6 +161,15 @@ struct Receiver {
 }
 
 impl Receiver {
+    /// Element `element` as a receiver.
+    fn of(mesh: &Mesh, element: usize) -> Self {
+        let receiver = mesh.element(element);
+        Self {
+            centroid: receiver.face.centroid().as_dvec3(),
+            patch: receiver.patch,
+        }
+    }
+
     /// Whether `node` is opened for this receiver: it has children, lies on another patch,
     /// faces the receiver, and is within [`REACH`] of its diameter.
     fn opens(&self, mesh: &Mesh, node: u32) -> bool {

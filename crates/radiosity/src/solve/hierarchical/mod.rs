@@ -264,7 +264,6 @@ pub fn run(
         };
         (links, splits, peak) = (snap.links.clone(), snap.splits.clone(), snap.peak);
         state.bury(mesh, &clusters, &links);
-        state.pull(mesh, &clusters);
         (out.iterations, out.residual) = (it.iterations, it.residual);
         (out.refine_seconds, out.solve_seconds) = snap.seconds;
         out.history.clone_from(&snap.history);
