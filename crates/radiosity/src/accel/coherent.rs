@@ -36,7 +36,7 @@
 
 use super::bvh::{Bvh, DEEP_STACK, SHALLOW_STACK};
 use super::frustum::Frustum;
-use super::isa;
+use super::isa::{self, le_mask};
 use super::node::{is_leaf, leaf_range, slab_rays, RAYS, WIDTH};
 use super::packet::{Tri4, LANES};
 use super::ray::{Hit, Ray};
@@ -416,14 +416,7 @@ impl Bvh {
                 if !ANY {
                     // A ray whose best hit is nearer than every entry into the box is done
                     // with it.
-                    let mut keep = 0;
-                    let mut b = m;
-                    while b != 0 {
-                        let r = b.trailing_zeros() as usize;
-                        b &= b - 1;
-                        keep |= u32::from(t <= p.best_t[r]) << r;
-                    }
-                    m = keep;
+                    m &= le_mask(&[t; RAYS], &p.best_t);
                 }
                 if m != 0 {
                     cur = next;
