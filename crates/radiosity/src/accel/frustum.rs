@@ -24,11 +24,11 @@
 //!
 //! On an axis where the rays' directions differ in sign the near plane differs from ray to
 //! ray and the interval bounds nothing; such packets get no bounds. (Measured on the
-//! 1M-triangle benchmark scenes, one thread: with the bounds a camera's packets test
-//! 1.6–2.0 of a node's 7.5 children against their rays instead of all, 1.03–1.07× the rays
-//! per second; shadow-ray packets towards a light, whose directions often straddle an axis and
-//! whose origins spread, kept 4 of 7.4 with the axes that do bound, and were 0.95× as fast
-//! with the cull as without it.)
+//! 1M-triangle benchmark scenes, one thread, `benches/README.md` sixth pass: with the bounds
+//! a camera's packets test 1.6–2.0 of a node's 7.5 children against their rays instead of
+//! all, 0.99–1.07× the rays per second; shadow-ray packets towards a light, whose directions
+//! often straddle an axis and whose origins spread, kept 4 of 7.4 with the axes that do
+//! bound, and were 0.89–0.99× as fast with the cull as without it.)
 
 use super::isa::le_mask;
 use super::node::{max, min, Planes, RAYS, ROBUST_FAR, WIDTH};
