@@ -17,8 +17,8 @@
 //! 7. [`io`]: mesh files in, images out.
 //!
 //! [`pipeline`] strings them together and [`stats`] reports what happened.
-// `unsafe` only in `accel::isa` (run-time instruction-set dispatch and a cache prefetch) and
-// `accel::pages` (one `madvise` for transparent huge pages).
+// `unsafe` only in `accel::isa` (run-time instruction-set dispatch, a cache prefetch and a
+// `movmskps` hit mask) and `accel::pages` (one `madvise` for transparent huge pages).
 #![deny(unsafe_code)]
 
 pub mod accel;

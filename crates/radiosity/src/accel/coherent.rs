@@ -17,8 +17,10 @@
 //! eight rays, where one-ray queries fetch and decide the same node eight times in a row
 //! (coherent rays visit nearly the same nodes: 23 steps per packet on the closed 1M-triangle
 //! field's primary rays, 18.8 per ray alone). With [`RAY_SIMD_MIN`] rays or more active, a
-//! node's children are tested one at a time with the rays in the lanes (`Node::slab_rays`),
-//! which computes each child's dequantized planes once for all rays; closest-hit leaves
+//! node's planes are dequantized once (`Node::planes`), the children that the packet's
+//! interval bounds rule out for every ray are dropped at once ([`super::frustum`], for
+//! packets whose directions agree in sign on every axis, such as a camera's), and the others
+//! are tested one at a time with the rays in the lanes (`slab_rays`); closest-hit leaves
 //! likewise, triangle by triangle. Each ray still runs exactly the slab and triangle
 //! arithmetic of the one-ray query, so the results are the same: the same occlusion answer,
 //! the same closest distance t bit for bit (the nearest of the triangles hit, whatever the
@@ -27,14 +29,15 @@
 //! query. The packets are the slice's consecutive groups of [`PACKET`] from its start, so the
 //! result depends on the slice only, not on threads or the instruction set.
 //!
-//! Measured (`benches/README.md`, 1M triangles, one thread): closest hit on a 512² camera's
-//! primary rays 1.14–1.60× the one-ray query (closed field 2.63 → 4.12 Mrays/s), on shadow
-//! rays 0.98–1.23×; incoherent rays are slower in packets (0.69–0.83×): use
+//! Measured (`benches/README.md` sixth pass, 1M triangles, one thread): closest hit on a 512²
+//! camera's primary rays 1.22–1.99× the one-ray query (closed field 2.92 → 5.81 Mrays/s), on
+//! shadow rays 1.07–1.35×; incoherent rays are slower in packets (0.73–0.85×): use
 //! [`Bvh::closest_hits`].
 
 use super::bvh::{Bvh, DEEP_STACK, SHALLOW_STACK};
-use super::isa;
-use super::node::{is_leaf, leaf_range, RAYS, WIDTH};
+use super::frustum::Frustum;
+use super::isa::{self, le_mask};
+use super::node::{is_leaf, leaf_range, slab_rays, RAYS, WIDTH};
 use super::packet::{Tri4, LANES};
 use super::ray::{Hit, Ray};
 use super::traverse::{slabs, worst_first};
@@ -44,7 +47,7 @@ use glam::Vec3;
 pub const PACKET: usize = RAYS;
 
 /// Active rays from which a node is tested child by child with the rays in lanes
-/// (`Node::slab_rays`) rather than ray by ray with the children in lanes (`Node::slabs`)
+/// (`slab_rays`) rather than ray by ray with the children in lanes (`Node::slabs`)
 /// (measured 1, 3 and 5 on the 1M-triangle scenes' primary and shadow rays: 1 is 2–27 %
 /// slower than 3 on 11 of 12; 3 and 5 within noise of each other).
 const RAY_SIMD_MIN: usize = 3;
@@ -55,18 +58,49 @@ const RAY_SIMD_MIN: usize = 3;
 /// closest hit 1.03–1.12× on all six, occlusion 0.8–1.25×, within noise).
 const LEAF_RAY_SIMD_MIN: usize = 3;
 
-/// The smallest of `entry` over the lanes set in `mask` (at least one).
+/// The smallest of `entry` plus `bias` ([`bias`]: +∞ for the lanes to leave out).
 #[inline(always)]
-fn nearest(entry: &[f32; RAYS], mask: u32) -> f32 {
-    let mut e = [f32::INFINITY; RAYS];
+fn nearest(entry: &[f32; RAYS], bias: &[f32; RAYS]) -> f32 {
+    let mut e = [0f32; RAYS];
     for r in 0..RAYS {
-        if mask >> r & 1 != 0 {
-            e[r] = entry[r];
-        }
+        // A max, not a sum: the same for 0 and +∞ (entries are ≥ 0), and never NaN.
+        e[r] = if entry[r] > bias[r] {
+            entry[r]
+        } else {
+            bias[r]
+        };
     }
     // A fixed tree of comparisons (vectorizes; the order does not matter for a minimum of
     // non-NaN values, and entries are never NaN).
     let m = |a: f32, b: f32| if a < b { a } else { b };
+    let a = [m(e[0], e[4]), m(e[1], e[5]), m(e[2], e[6]), m(e[3], e[7])];
+    let b = [m(a[0], a[2]), m(a[1], a[3])];
+    m(b[0], b[1])
+}
+
+/// 0 in the lanes set in `mask`, +∞ in the others: what [`nearest`] adds to leave the rays
+/// outside `mask` out.
+#[inline(always)]
+fn bias(mask: u32) -> [f32; RAYS] {
+    std::array::from_fn(|r| {
+        if mask >> r & 1 != 0 {
+            0.0
+        } else {
+            f32::INFINITY
+        }
+    })
+}
+
+/// The largest of `t` over the lanes set in `mask` (at least one; `t` is never negative).
+#[inline(always)]
+fn farthest(t: &[f32; RAYS], mask: u32) -> f32 {
+    let mut e = [0f32; RAYS];
+    for r in 0..RAYS {
+        if mask >> r & 1 != 0 {
+            e[r] = t[r];
+        }
+    }
+    let m = |a: f32, b: f32| if a > b { a } else { b };
     let a = [m(e[0], e[4]), m(e[1], e[5]), m(e[2], e[6]), m(e[3], e[7])];
     let b = [m(a[0], a[2]), m(a[1], a[3])];
     m(b[0], b[1])
@@ -81,7 +115,7 @@ struct Rays {
     /// Index of each axis' near plane in a node's planes.
     near: [[usize; 3]; PACKET],
     best_t: [f32; PACKET],
-    /// The origins and 1/d by axis, ray by ray (for `Node::slab_rays`).
+    /// The origins and 1/d by axis, ray by ray (for `slab_rays`).
     o_soa: [[f32; PACKET]; 3],
     d_soa: [[f32; PACKET]; 3],
     inv_soa: [[f32; PACKET]; 3],
@@ -282,6 +316,8 @@ impl Bvh {
         let mut p = Rays::new(rays, t_max);
         // Rays still looking (occlusion: not yet occluded).
         let mut live: u32 = (1 << n) - 1;
+        // The packet's interval bounds, when its directions agree in sign on every axis.
+        let frustum = Frustum::new(&p.o_soa, &p.inv_soa, live);
         // Occlusion: largest box first when the first ray runs the scene's diagonal.
         let by_area = ANY && t_max[0] * rays[0].dir.length() >= self.diagonal;
         let mut stack: [Entry; STACK] = [(0, 0, 0.0); STACK];
@@ -305,16 +341,22 @@ impl Bvh {
                 let mut rays_in = [0u32; WIDTH];
                 let mut key = [f32::INFINITY; WIDTH];
                 if mask.count_ones() as usize >= RAY_SIMD_MIN {
-                    // Child by child, the rays in lanes.
-                    for k in 0..WIDTH {
-                        if !node.has_child(k) {
-                            continue;
-                        }
-                        let (entry, hit) = node.slab_rays(k, &p.o_soa, &p.inv_soa, &p.best_t);
+                    // Child by child, the rays in lanes, for the children that the packet's
+                    // bounds do not rule out.
+                    let planes = node.planes();
+                    let bias = bias(mask);
+                    let mut may = node.children();
+                    if let Some(f) = &frustum {
+                        may &= f.cull(&planes, farthest(&p.best_t, mask));
+                    }
+                    while may != 0 {
+                        let k = may.trailing_zeros() as usize;
+                        may &= may - 1;
+                        let (entry, hit) = slab_rays(&planes, k, &p.o_soa, &p.inv_soa, &p.best_t);
                         let hit = hit & mask;
                         rays_in[k] = hit;
                         if hit != 0 {
-                            key[k] = nearest(&entry, hit);
+                            key[k] = nearest(&entry, &bias);
                         }
                     }
                 } else {
@@ -374,14 +416,7 @@ impl Bvh {
                 if !ANY {
                     // A ray whose best hit is nearer than every entry into the box is done
                     // with it.
-                    let mut keep = 0;
-                    let mut b = m;
-                    while b != 0 {
-                        let r = b.trailing_zeros() as usize;
-                        b &= b - 1;
-                        keep |= u32::from(t <= p.best_t[r]) << r;
-                    }
-                    m = keep;
+                    m &= le_mask(&[t; RAYS], &p.best_t);
                 }
                 if m != 0 {
                     cur = next;

@@ -13,9 +13,10 @@
 //! |---|---|---|
 //! | [`Isa`] in effect | the best the processor has | [`set`] lowers it (benchmarks, tests) |
 //!
-//! Two of the crate's three `unsafe` blocks are here (the third is `madvise` in `pages`): calling a `#[target_feature]` function needs the
-//! caller to promise that the processor has the features, which [`std::is_x86_feature_detected`]
-//! establishes, and `prefetch`'s intrinsic is declared that way. Measured on the
+//! Three of the crate's four `unsafe` blocks are here (the fourth is `madvise` in `pages`):
+//! calling a `#[target_feature]` function needs the caller to promise that the processor has
+//! the features, which [`std::is_x86_feature_detected`] establishes, and the intrinsics of
+//! `prefetch` and `le_mask` are declared that way. Measured on the
 //! 1M-triangle benchmark scenes (`benches/README.md`): with AVX2 1.03–1.3× the SSE2 build's
 //! rays per second on every scene and query.
 
@@ -94,6 +95,44 @@ pub(super) fn run<R>(f: impl FnOnce() -> R) -> R {
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
 fn avx2<R>(f: impl FnOnce() -> R) -> R {
     f()
+}
+
+/// The mask of the lanes r with `a[r] <= b[r]` (bit r), as `movmskps` makes it. (LLVM does
+/// not find `movmskps` in the portable loop `m |= u32::from(a[r] <= b[r]) << r`: it spent
+/// some 25 shuffles and scalar compares on it, the hottest spot of the packet traversal
+/// under `perf`.)
+#[inline(always)]
+pub(super) fn le_mask(a: &[f32; 8], b: &[f32; 8]) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        // SAFETY: `le_mask_sse` needs SSE, which belongs to every x86-64 processor.
+        #[allow(unsafe_code)]
+        unsafe {
+            le_mask_sse(a, b)
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let mut m = 0;
+        for r in 0..8 {
+            m |= u32::from(a[r] <= b[r]) << r;
+        }
+        m
+    }
+}
+
+/// [`le_mask`] in SSE: two compares, two `movmskps` (one 8-wide of each when inlined into
+/// the AVX2 build).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "sse")]
+#[inline]
+fn le_mask_sse(a: &[f32; 8], b: &[f32; 8]) -> u32 {
+    use std::arch::x86_64::{_mm_cmple_ps, _mm_movemask_ps, _mm_setr_ps};
+    let half =
+        |x: &[f32; 8], h: usize| _mm_setr_ps(x[4 * h], x[4 * h + 1], x[4 * h + 2], x[4 * h + 3]);
+    let lo = _mm_movemask_ps(_mm_cmple_ps(half(a, 0), half(b, 0)));
+    let hi = _mm_movemask_ps(_mm_cmple_ps(half(a, 1), half(b, 1)));
+    (lo | hi << 4) as u32
 }
 
 /// Asks the cache for every 64-byte line that `x` spans, ahead of its use (a node's two; a

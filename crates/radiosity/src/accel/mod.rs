@@ -13,7 +13,8 @@
 //!   closest hits; largest first for long occlusion rays, nearest first for short segments),
 //!   one ray at a time or four interleaved so that their cache misses overlap.
 //! - [`coherent`]: ray packets, eight coherent rays (a camera's, shadow rays to one light)
-//!   walked together, sharing each node's fetch and ordering.
+//!   walked together, sharing each node's fetch and ordering; `frustum`: the packet's
+//!   interval bounds, which rule a child out for all its rays at once.
 //! - [`isa`]: the queries compiled for the baseline and for AVX2, chosen at run time.
 //! - `pages`: the node and packet arrays on transparent huge pages (`madvise`), so that a
 //!   walk through 50 MB of hierarchy does not also miss the TLB at every step.
@@ -27,6 +28,7 @@ pub mod bench;
 mod build;
 pub mod bvh;
 pub mod coherent;
+mod frustum;
 pub mod isa;
 mod node;
 mod packet;

@@ -21,12 +21,16 @@
 
 use glam::Vec3;
 
+use super::isa::le_mask;
+
 /// Most triangles in one leaf: two packets (the leaf reference could name eight).
 pub(super) const MAX_LEAF: usize = 8;
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
 /// Rays of a packet ([`super::coherent`]) tested together against one child box.
 pub(super) const RAYS: usize = 8;
+/// A node's children's planes, `[plane][child]` (see [`Node::planes`]).
+pub(super) type Planes = [[f32; WIDTH]; 6];
 /// Reference in an unused child slot.
 pub(super) const EMPTY_CHILD: u32 = u32::MAX;
 /// Leaf bit of a child reference.
@@ -34,7 +38,8 @@ const LEAF: u32 = 1 << 31;
 /// Largest triangle count a leaf reference can address.
 pub(super) const MAX_TRIANGLES: usize = 1 << 28;
 /// 1 + 2γ₃ with γₙ = nε/(1 − nε), ε = 2⁻²⁴ (Pharr et al., PBRT 3rd ed., §3.9).
-const ROBUST_FAR: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+pub(super) const ROBUST_FAR: f32 =
+    1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
 /// An axis-aligned box; `EMPTY` has min = +∞, max = −∞.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -246,49 +251,28 @@ impl Node {
             entry[k] = max(max(tx0, ty0), max(tz0, 0.0));
             exit[k] = min(min(tx1, ty1), min(tz1, t_max)) * ROBUST_FAR;
         }
-        let mut mask = 0u32;
-        for k in 0..WIDTH {
-            mask |= u32::from(entry[k] <= exit[k]) << k;
-        }
-        (entry, mask & self.valid)
+        (entry, le_mask(&entry, &exit) & self.valid)
     }
 
-    /// Slab tests of child `k` against [`RAYS`] rays at once (ray r: `o[axis][r]`, `inv` and
-    /// `t_max` likewise), lane by lane over the rays: each ray's entry distance and the mask of
-    /// the rays that enter. Lane r computes exactly what [`Node::slabs`] computes for ray r
-    /// and child `k` (the near plane's distance is the smaller of the two planes' distances,
-    /// which for a positive 1/d is the min plane's and for a negative one the max plane's).
+    /// The planes of every child, `[plane][child]`, each exactly as [`Node::slabs`] computes it
+    /// (for the packet traversal, which tests one node against several rays: decoded once,
+    /// eight lanes at a time, instead of once per child and ray).
     #[inline(always)]
-    pub(super) fn slab_rays(
-        &self,
-        k: usize,
-        o: &[[f32; RAYS]; 3],
-        inv: &[[f32; RAYS]; 3],
-        t_max: &[f32; RAYS],
-    ) -> ([f32; RAYS], u32) {
-        let q = &self.q;
-        let plane = |p: usize| self.origin[p / 2] + f32::from(q[p][k]) * self.step[p / 2];
-        let (x0, x1, y0, y1, z0, z1) = (plane(0), plane(1), plane(2), plane(3), plane(4), plane(5));
-        let mut entry = [0f32; RAYS];
-        let mut exit = [0f32; RAYS];
-        for r in 0..RAYS {
-            let ax = (x0 - o[0][r]) * inv[0][r];
-            let bx = (x1 - o[0][r]) * inv[0][r];
-            let ay = (y0 - o[1][r]) * inv[1][r];
-            let by = (y1 - o[1][r]) * inv[1][r];
-            let az = (z0 - o[2][r]) * inv[2][r];
-            let bz = (z1 - o[2][r]) * inv[2][r];
-            let (tx0, tx1) = (min(ax, bx), max(ax, bx));
-            let (ty0, ty1) = (min(ay, by), max(ay, by));
-            let (tz0, tz1) = (min(az, bz), max(az, bz));
-            entry[r] = max(max(tx0, ty0), max(tz0, 0.0));
-            exit[r] = min(min(tx1, ty1), min(tz1, t_max[r])) * ROBUST_FAR;
+    pub(super) fn planes(&self) -> Planes {
+        let mut planes = [[0f32; WIDTH]; 6];
+        for (p, plane) in planes.iter_mut().enumerate() {
+            let (o, s) = (self.origin[p / 2], self.step[p / 2]);
+            for (x, &q) in plane.iter_mut().zip(&self.q[p]) {
+                *x = o + f32::from(q) * s;
+            }
         }
-        let mut mask = 0u32;
-        for r in 0..RAYS {
-            mask |= u32::from(entry[r] <= exit[r]) << r;
-        }
-        (entry, mask)
+        planes
+    }
+
+    /// The mask of the slots that hold a child.
+    #[inline(always)]
+    pub(super) fn children(&self) -> u32 {
+        self.valid
     }
 
     /// Whether slot `k` holds a child.
@@ -318,6 +302,48 @@ impl Node {
     }
 }
 
+/// Slab tests of child `k` of a node whose planes are `planes` ([`Node::planes`]) against
+/// [`RAYS`] rays at once (ray r: `o[axis][r]`, `inv` and `t_max` likewise), lane by lane over
+/// the rays: each ray's entry distance (+∞ for a ray that misses) and the mask of the rays
+/// that enter. Lane r computes exactly what [`Node::slabs`] computes for ray r and child `k`
+/// (the near plane's distance is
+/// the smaller of the two planes' distances, which for a positive 1/d is the min plane's and
+/// for a negative one the max plane's).
+#[inline(always)]
+pub(super) fn slab_rays(
+    planes: &Planes,
+    k: usize,
+    o: &[[f32; RAYS]; 3],
+    inv: &[[f32; RAYS]; 3],
+    t_max: &[f32; RAYS],
+) -> ([f32; RAYS], u32) {
+    let [x0, x1, y0, y1, z0, z1] = [0, 1, 2, 3, 4, 5].map(|p| planes[p][k]);
+    let mut entry = [0f32; RAYS];
+    let mut exit = [0f32; RAYS];
+    for r in 0..RAYS {
+        let ax = (x0 - o[0][r]) * inv[0][r];
+        let bx = (x1 - o[0][r]) * inv[0][r];
+        let ay = (y0 - o[1][r]) * inv[1][r];
+        let by = (y1 - o[1][r]) * inv[1][r];
+        let az = (z0 - o[2][r]) * inv[2][r];
+        let bz = (z1 - o[2][r]) * inv[2][r];
+        let (tx0, tx1) = (min(ax, bx), max(ax, bx));
+        let (ty0, ty1) = (min(ay, by), max(ay, by));
+        let (tz0, tz1) = (min(az, bz), max(az, bz));
+        entry[r] = max(max(tx0, ty0), max(tz0, 0.0));
+        exit[r] = min(min(tx1, ty1), min(tz1, t_max[r])) * ROBUST_FAR;
+    }
+    let mask = le_mask(&entry, &exit);
+    for r in 0..RAYS {
+        entry[r] = if entry[r] <= exit[r] {
+            entry[r]
+        } else {
+            f32::INFINITY
+        };
+    }
+    (entry, mask)
+}
+
 /// 2^`exp` for `exp` in −126..=127 (a normal `f32`).
 fn pow2(exp: i32) -> f32 {
     f32::from_bits(((exp + 127) as u32) << 23)
@@ -341,7 +367,7 @@ pub(super) fn leaf_range(child: u32) -> (usize, usize) {
 
 /// `a < b ? a : b`: one `minss`, unlike `f32::min`'s NaN handling.
 #[inline(always)]
-fn min(a: f32, b: f32) -> f32 {
+pub(super) fn min(a: f32, b: f32) -> f32 {
     if a < b {
         a
     } else {
@@ -351,7 +377,7 @@ fn min(a: f32, b: f32) -> f32 {
 
 /// `a > b ? a : b`: one `maxss`.
 #[inline(always)]
-fn max(a: f32, b: f32) -> f32 {
+pub(super) fn max(a: f32, b: f32) -> f32 {
     if a > b {
         a
     } else {
@@ -403,6 +429,7 @@ mod tests {
                 .map(|_| Aabb::from_points(&[Vec3::new(v(), v(), v()), Vec3::new(v(), v(), v())]))
                 .collect();
             let node = Node::new(&boxes, &[0; WIDTH]);
+            let planes = node.planes();
             let (mut o, mut inv, mut t_max) = ([[0f32; RAYS]; 3], [[0f32; RAYS]; 3], [0f32; RAYS]);
             let mut rays = Vec::new();
             for r in 0..RAYS {
@@ -425,7 +452,7 @@ mod tests {
                 rays.push((origin, i));
             }
             for k in 0..WIDTH {
-                let (entry, mask) = node.slab_rays(k, &o, &inv, &t_max);
+                let (entry, mask) = slab_rays(&planes, k, &o, &inv, &t_max);
                 let mask = if node.has_child(k) { mask } else { 0 };
                 for (r, &(origin, i)) in rays.iter().enumerate() {
                     let near = [
