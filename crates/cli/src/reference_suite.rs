@@ -162,6 +162,7 @@ fn worst_object(
 ) -> anyhow::Result<Row> {
     let settings = Settings {
         subdivision: Subdivision::default(),
+        discontinuity: false,
         form_factors: formfactor::Settings::of(ff),
         solve: solve::Settings::default(),
         method: match solver {

@@ -28,6 +28,7 @@ pub fn pipeline_settings(common: &CommonArgs) -> anyhow::Result<pipeline::Settin
     if let Some(a) = common.mesh.max_element_area {
         settings.subdivision = Subdivision::MaxArea(a);
     }
+    settings.discontinuity = common.mesh.discontinuity_meshing;
     settings.form_factors = form_factor_settings(common)?;
     if let Some(n) = common.mesh.sources {
         settings.solve.max_sources = usize::try_from(n).unwrap_or(usize::MAX);

@@ -313,6 +313,7 @@ pub(crate) fn rgb(values: &[serde_json::Value]) -> Option<Rgb> {
 fn solved(scene: Scene, elements: usize, method: formfactor::Method) -> anyhow::Result<Stats> {
     let settings = Settings {
         subdivision: Subdivision::Elements(elements),
+        discontinuity: false,
         form_factors: formfactor::Settings::of(method),
         solve: solve::Settings {
             tolerance: 1e-9,

@@ -22,6 +22,9 @@ use crate::{Rgb, Scene};
 pub struct Settings {
     /// How finely patches are split into elements.
     pub subdivision: Subdivision,
+    /// Whether the outlines of sharp shadows become element edges (discontinuity meshing,
+    /// `mesh::discontinuity`); off by default (docs/validation.md, eleventh round).
+    pub discontinuity: bool,
     /// How form factors are computed.
     pub form_factors: formfactor::Settings,
     /// Tolerance and resource limits of the solver, and the hierarchical solver's options.
@@ -101,7 +104,7 @@ pub fn solve_controlled(
 ) -> Result<Solved, PipelineError> {
     let mut timings = Timings::default();
     let start = Instant::now();
-    let (roots, elements) = Mesh::plan(&scene, settings.subdivision);
+    let (roots, elements) = Mesh::plan(&scene, settings.subdivision, settings.discontinuity);
     let limit = settings.solve.max_matrix_bytes;
     let problem = |requested, elements: f64, meshed: bool| plan::Problem {
         requested,
@@ -127,7 +130,8 @@ pub fn solve_controlled(
     };
     progress.start("meshing", 3);
     let stop = || control.stopped();
-    let mesh = Mesh::build_unless(&scene, subdivision, &stop).ok_or(PipelineError::Interrupted)?;
+    let mesh = Mesh::build_unless(&scene, subdivision, settings.discontinuity, &stop)
+        .ok_or(PipelineError::Interrupted)?;
     progress.advance(1);
     let bvh = Bvh::build(&mesh.triangles);
     progress.advance(1);

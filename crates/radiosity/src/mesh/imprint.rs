@@ -28,7 +28,7 @@ use crate::Scene;
 
 /// Only polygons of at least this share of the scene's area imprint, and are imprinted: finer
 /// outlines are the quadtree refinement's, and the pairs to test stay few.
-const MIN_SHARE: f64 = 1e-4;
+pub(super) const MIN_SHARE: f64 = 1e-4;
 
 /// A piece whose area is below this fraction of the face it comes from is a sliver of rounding
 /// (an outline edge along the face's own edge), not a piece.
@@ -137,7 +137,7 @@ fn bounds(points: impl Iterator<Item = Vec3>) -> (DVec3, DVec3) {
 /// The convex face `face` (unit normal `normal`) cut along the outline `q` projected on its
 /// plane, as root faces; `None` when the outline leaves the face whole (it misses the face,
 /// covers it, or touches it only along its edges).
-fn split(face: &Face, normal: DVec3, q: &[DVec3]) -> Option<Vec<Face>> {
+pub(super) fn split(face: &Face, normal: DVec3, q: &[DVec3]) -> Option<Vec<Face>> {
     let whole = face.area();
     let centre = q.iter().sum::<DVec3>() / q.len() as f64;
     let mut inside: Vec<DVec3> = face.corners().iter().map(|c| c.as_dvec3()).collect();

@@ -14,6 +14,7 @@
 
 mod budget;
 mod contact;
+mod discontinuity;
 pub mod display;
 mod face;
 mod imprint;
@@ -99,8 +100,8 @@ impl Mesh {
     /// How many root faces and elements [`Mesh::build`] would make, without making them (to
     /// refuse absurd requests, or choose a solver, before allocating).
     #[must_use]
-    pub fn plan(scene: &Scene, subdivision: Subdivision) -> (usize, f64) {
-        let patches = patch::patches(scene);
+    pub fn plan(scene: &Scene, subdivision: Subdivision, discontinuity: bool) -> (usize, f64) {
+        let patches = patch::patches(scene, discontinuity);
         let targets = budget::patch_targets(&patches, subdivision);
         let roots = patches.iter().map(|(_, roots)| roots.len()).sum();
         let elements = patches
@@ -117,18 +118,21 @@ impl Mesh {
     /// Splits every polygon of `scene` into patches and subdivides them uniformly.
     #[must_use]
     pub fn build(scene: &Scene, subdivision: Subdivision) -> Self {
-        Self::build_unless(scene, subdivision, &|| false).unwrap_or_else(|| unreachable!())
+        Self::build_unless(scene, subdivision, false, &|| false).unwrap_or_else(|| unreachable!())
     }
 
-    /// [`Mesh::build`], abandoned (`None`) once `stop` returns true: the contact and shadow
-    /// refinements, which take seconds on large scenes, ask it before each element.
+    /// [`Mesh::build`], with the outlines of sharp shadows cut into the root faces when
+    /// `discontinuity` is set (discontinuity meshing, [`discontinuity`]), abandoned (`None`)
+    /// once `stop` returns true: the contact and shadow refinements, which take seconds on
+    /// large scenes, ask it before each element.
     #[must_use]
     pub fn build_unless(
         scene: &Scene,
         subdivision: Subdivision,
+        discontinuity: bool,
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Option<Self> {
-        let patches = patch::patches(scene);
+        let patches = patch::patches(scene, discontinuity);
         let targets = budget::patch_targets(&patches, subdivision);
         let mut mesh = Mesh::default();
         for (index, ((patch, roots), target)) in patches.into_iter().zip(targets).enumerate() {

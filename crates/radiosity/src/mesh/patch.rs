@@ -15,6 +15,7 @@
 
 use glam::Vec3;
 
+use super::discontinuity::cut_shadows;
 use super::imprint::{imprint, Piece};
 use super::triangulate::{is_convex, triangulate};
 use super::Face;
@@ -50,8 +51,9 @@ pub struct Patch {
 pub const PLANAR_TOLERANCE: f32 = 1e-4;
 
 /// The patches of `scene` with the root faces of each patch's element quadtree, cut along
-/// the outlines of large polygons lying on them ([`super::imprint`]).
-pub(super) fn patches(scene: &Scene) -> Vec<(Patch, Vec<Face>)> {
+/// the outlines of large polygons lying on them ([`super::imprint`]) and, with
+/// `discontinuity`, along the outlines of sharp shadows ([`super::discontinuity`]).
+pub(super) fn patches(scene: &Scene, discontinuity: bool) -> Vec<(Patch, Vec<Face>)> {
     let enclosed = enclosed_objects(scene);
     let mut pieces: Vec<Piece> = scene
         .polygons
@@ -69,6 +71,9 @@ pub(super) fn patches(scene: &Scene) -> Vec<(Patch, Vec<Face>)> {
         })
         .collect();
     imprint(scene, &mut pieces);
+    if discontinuity {
+        cut_shadows(scene, &mut pieces);
+    }
     let mut out = Vec::with_capacity(pieces.len());
     for piece in pieces {
         let polygon = &scene.polygons[piece.polygon];
