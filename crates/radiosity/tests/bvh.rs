@@ -174,14 +174,7 @@ fn check(tris: &[[Vec3; 3]], bvh: &Bvh, rays: &[Ray], rng: &mut Rng) -> usize {
             }
         })
         .collect();
-    let mut closest = vec![None; rays.len()];
-    bvh.closest_hits(rays, &t_max, &mut closest);
-    let mut occluded = vec![false; rays.len()];
-    bvh.occluded_many(rays, &t_max, &mut occluded);
-    for (k, ray) in rays.iter().enumerate() {
-        assert_eq!(closest[k], bvh.closest_hit(ray, t_max[k]), "{ray:?}");
-        assert_eq!(occluded[k], bvh.occluded(ray, t_max[k]), "{ray:?}");
-    }
+    interleaved_matches_one_ray(bvh, rays, &t_max);
     // So do the packet queries, on these incoherent rays and on coherent ones (a camera's fan
     // from one point, and segments from many points to one).
     coherent_matches_one_ray(tris, bvh, rays, &t_max);
@@ -206,6 +199,20 @@ fn check(tris: &[[Vec3; 3]], bvh: &Bvh, rays: &[Ray], rng: &mut Rng) -> usize {
         .collect();
     coherent_matches_one_ray(tris, bvh, &to_light, &vec![1.0; to_light.len()]);
     hits
+}
+
+/// The interleaved queries ([`Bvh::closest_hits`], [`Bvh::occluded_many`]) against the
+/// one-ray ones, ray by ray: exactly the same answers. Returns the occlusion answers.
+fn interleaved_matches_one_ray(bvh: &Bvh, rays: &[Ray], t_max: &[f32]) -> Vec<bool> {
+    let mut closest = vec![None; rays.len()];
+    bvh.closest_hits(rays, t_max, &mut closest);
+    let mut occluded = vec![false; rays.len()];
+    bvh.occluded_many(rays, t_max, &mut occluded);
+    for (k, ray) in rays.iter().enumerate() {
+        assert_eq!(closest[k], bvh.closest_hit(ray, t_max[k]), "{ray:?}");
+        assert_eq!(occluded[k], bvh.occluded(ray, t_max[k]), "{ray:?}");
+    }
+    occluded
 }
 
 /// The packet queries ([`Bvh::closest_hits_coherent`], [`Bvh::occluded_coherent`]) against the
@@ -300,14 +307,9 @@ fn interleaved_queries_agree_on_a_hierarchy_larger_than_the_cache() {
             }
         })
         .collect();
-    let mut closest = vec![None; rays.len()];
-    bvh.closest_hits(&rays, &t_max, &mut closest);
-    let mut occluded = vec![false; rays.len()];
-    bvh.occluded_many(&rays, &t_max, &mut occluded);
+    let occluded = interleaved_matches_one_ray(&bvh, &rays, &t_max);
     let mut blocked = 0;
     for (k, ray) in rays.iter().enumerate() {
-        assert_eq!(closest[k], bvh.closest_hit(ray, t_max[k]), "{ray:?}");
-        assert_eq!(occluded[k], bvh.occluded(ray, t_max[k]), "{ray:?}");
         if k < 200 {
             assert_eq!(occluded[k], brute_occluded(&tris, ray, t_max[k]), "{ray:?}");
         }

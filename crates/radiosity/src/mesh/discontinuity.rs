@@ -36,8 +36,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::imprint::{split, Piece, MIN_SHARE};
-use super::Face;
+use super::imprint::{convex_normal, large_area, Piece};
 use crate::scene::coincident::exact_bits;
 use crate::Scene;
 
@@ -105,14 +104,13 @@ impl Plane {
 /// Cuts the root faces of every large piece along the umbra and penumbra outlines that the
 /// emitters cast on its plane through the scene's convex occluders.
 pub(super) fn cut_shadows(scene: &Scene, pieces: &mut [Piece]) {
-    let area = |p: &Piece| p.roots.iter().map(Face::area).sum::<f64>();
-    let large = MIN_SHARE * pieces.iter().map(area).sum::<f64>();
+    let large = large_area(pieces);
     let emitters = emitters(scene, large);
     if emitters.is_empty() {
         return;
     }
     let occluders = occluders(scene, large);
-    for piece in pieces.iter_mut().filter(|p| area(p) >= large) {
+    for piece in pieces.iter_mut().filter(|p| p.area() >= large) {
         let two_sided = scene.materials[scene.polygons[piece.polygon].material].two_sided;
         let corners: Vec<DVec3> = piece
             .roots
@@ -151,11 +149,7 @@ pub(super) fn cut_shadows(scene: &Scene, pieces: &mut [Piece]) {
                         continue;
                     }
                     let q: Vec<DVec3> = outline.iter().map(|&x| plane.lift(x)).collect();
-                    piece.roots = piece
-                        .roots
-                        .iter()
-                        .flat_map(|f| split(f, piece.normal.as_dvec3(), &q).unwrap_or(vec![*f]))
-                        .collect();
+                    piece.cut(&q);
                 }
             }
         }
@@ -197,12 +191,12 @@ fn shadow(plane: &Plane, e: &Emitter, o: &Occluder) -> Option<(Vec<DVec2>, Vec<D
             .zip(&heights)
             .map(|(&p, &h)| plane.flat(l + (p - l) * (dl / (dl - h))))
             .collect();
-        let s = hull(cast.clone());
+        union.extend_from_slice(&cast);
+        let s = hull(cast);
         umbra = Some(match umbra {
             None => s,
             Some(u) => intersect(&u, &s),
         });
-        union.extend(cast);
     }
     Some((umbra.unwrap_or_default(), hull(union)))
 }
@@ -215,14 +209,11 @@ fn emitters(scene: &Scene, large: f64) -> Vec<Emitter> {
         .enumerate()
         .filter_map(|(polygon, p)| {
             let material = &scene.materials[p.material];
-            let vector = model::polymesh::vector_area(&p.vertices);
-            let normal = vector.normalize_or_zero();
-            let area = f64::from(vector.length());
-            (material.is_emitter()
-                && area >= large
-                && super::patch::is_planar(&p.vertices, normal)
-                && super::triangulate::is_convex(&p.vertices, normal))
-            .then(|| {
+            if !material.is_emitter() {
+                return None;
+            }
+            convex_normal(&p.vertices, large).map(|normal| {
+                let area = f64::from(model::polymesh::vector_area(&p.vertices).length());
                 let power = area * material.emission.max_element();
                 let corners = p.vertices.iter().map(|v| v.as_dvec3()).collect();
                 let normal = normal.as_dvec3();
@@ -387,6 +378,7 @@ fn area_2d(p: &[DVec2]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::Face;
     use crate::scene::{Material, Object, Polygon};
     use crate::Rgb;
     use glam::Vec3;

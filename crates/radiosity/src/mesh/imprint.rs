@@ -28,7 +28,7 @@ use crate::Scene;
 
 /// Only polygons of at least this share of the scene's area imprint, and are imprinted: finer
 /// outlines are the quadtree refinement's, and the pairs to test stay few.
-pub(super) const MIN_SHARE: f64 = 1e-4;
+const MIN_SHARE: f64 = 1e-4;
 
 /// A piece whose area is below this fraction of the face it comes from is a sliver of rounding
 /// (an outline edge along the face's own edge), not a piece.
@@ -46,6 +46,49 @@ pub(super) struct Piece {
     pub imprinted: Vec<u32>,
 }
 
+impl Piece {
+    /// The area of the root faces.
+    pub fn area(&self) -> f64 {
+        self.roots.iter().map(Face::area).sum()
+    }
+
+    /// Cuts the root faces along the convex outline `q` (projected along the piece's normal);
+    /// says whether any was cut.
+    pub fn cut(&mut self, q: &[DVec3]) -> bool {
+        let normal = self.normal.as_dvec3();
+        let mut cut = false;
+        self.roots = self
+            .roots
+            .iter()
+            .flat_map(|f| match split(f, normal, q) {
+                Some(parts) => {
+                    cut = true;
+                    parts
+                }
+                None => vec![*f],
+            })
+            .collect();
+        cut
+    }
+}
+
+/// The area from which pieces take part in imprints and shadow outlines, as cutters and as
+/// cut: [`MIN_SHARE`] of all the pieces' area.
+pub(super) fn large_area(pieces: &[Piece]) -> f64 {
+    MIN_SHARE * pieces.iter().map(Piece::area).sum::<f64>()
+}
+
+/// The unit normal of `vertices` if they make a planar convex polygon of at least `large`
+/// area.
+pub(super) fn convex_normal(vertices: &[Vec3], large: f64) -> Option<Vec3> {
+    let vector = model::polymesh::vector_area(vertices);
+    let normal = vector.normalize_or_zero();
+    (f64::from(vector.length()) >= large
+        && super::patch::is_planar(vertices, normal)
+        && is_convex(vertices, normal))
+    .then_some(normal)
+}
+
 /// A convex planar polygon that may imprint others.
 struct Outline {
     polygon: usize,
@@ -60,9 +103,7 @@ struct Outline {
 /// Cuts the root faces of every large piece along the outlines of the large convex polygons
 /// lying on it or hovering within reach of its plane (either side).
 pub(super) fn imprint(scene: &Scene, pieces: &mut [Piece]) {
-    let area = |p: &Piece| p.roots.iter().map(Face::area).sum::<f64>();
-    let total: f64 = pieces.iter().map(area).sum();
-    let large = MIN_SHARE * total;
+    let large = large_area(pieces);
     let outlines: Vec<Outline> = scene
         .polygons
         .iter()
@@ -72,7 +113,7 @@ pub(super) fn imprint(scene: &Scene, pieces: &mut [Piece]) {
     if outlines.is_empty() {
         return;
     }
-    for piece in pieces.iter_mut().filter(|p| area(p) >= large) {
+    for piece in pieces.iter_mut().filter(|p| p.area() >= large) {
         let normal = piece.normal.as_dvec3();
         let origin = piece.roots[0].corners()[0].as_dvec3();
         let (lo, hi) = bounds(piece.roots.iter().flat_map(|f| f.corners().iter().copied()));
@@ -86,19 +127,7 @@ pub(super) fn imprint(scene: &Scene, pieces: &mut [Piece]) {
             {
                 continue;
             }
-            let mut cut = false;
-            piece.roots = piece
-                .roots
-                .iter()
-                .flat_map(|f| match split(f, normal, &q.corners) {
-                    Some(parts) => {
-                        cut = true;
-                        parts
-                    }
-                    None => vec![*f],
-                })
-                .collect();
-            if cut {
+            if piece.cut(&q.corners) {
                 piece.imprinted.push(q.polygon as u32);
             }
         }
@@ -107,14 +136,7 @@ pub(super) fn imprint(scene: &Scene, pieces: &mut [Piece]) {
 
 /// The polygon as an outline, if it is convex, planar and at least `large` in area.
 fn outline(polygon: usize, vertices: &[Vec3], large: f64) -> Option<Outline> {
-    let vector = model::polymesh::vector_area(vertices);
-    let normal = vector.normalize_or_zero();
-    if f64::from(vector.length()) < large
-        || !super::patch::is_planar(vertices, normal)
-        || !is_convex(vertices, normal)
-    {
-        return None;
-    }
+    convex_normal(vertices, large)?;
     let corners: Vec<DVec3> = vertices.iter().map(|v| v.as_dvec3()).collect();
     let (lo, hi) = bounds(vertices.iter().copied());
     Some(Outline {
@@ -137,7 +159,7 @@ fn bounds(points: impl Iterator<Item = Vec3>) -> (DVec3, DVec3) {
 /// The convex face `face` (unit normal `normal`) cut along the outline `q` projected on its
 /// plane, as root faces; `None` when the outline leaves the face whole (it misses the face,
 /// covers it, or touches it only along its edges).
-pub(super) fn split(face: &Face, normal: DVec3, q: &[DVec3]) -> Option<Vec<Face>> {
+fn split(face: &Face, normal: DVec3, q: &[DVec3]) -> Option<Vec<Face>> {
     let whole = face.area();
     let centre = q.iter().sum::<DVec3>() / q.len() as f64;
     let mut inside: Vec<DVec3> = face.corners().iter().map(|c| c.as_dvec3()).collect();
