@@ -66,6 +66,7 @@ struct Emitter {
 struct Occluder {
     polygons: Vec<usize>,
     points: Vec<DVec3>,
+    /// A lower bound of its diameter, the scale of its tolerances.
     size: f64,
 }
 
@@ -253,10 +254,13 @@ fn occluders(scene: &Scene, large: f64) -> Vec<Occluder> {
                     }
                 }
             }
-            let size = points
-                .iter()
-                .flat_map(|a| points.iter().map(move |b| a.distance(*b)))
-                .fold(0.0, f64::max);
+            // Its box's diagonal over √3: never above the diameter, and linear in the points
+            // (the diameter is quadratic: hours for a scanned mesh of 10⁵ corners).
+            let (lo, hi) = points.iter().fold(
+                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                |(lo, hi), &p| (lo.min(p), hi.max(p)),
+            );
+            let size = (hi - lo).length() / 3f64.sqrt();
             let tolerance = FLAT * size;
             let convex = polygons.iter().all(|&k| {
                 let vs = &scene.polygons[k].vertices;
