@@ -324,6 +324,16 @@ pub struct OutputArgs {
     #[arg(long, value_name = "auto|linear|STOPS", default_value = "auto",
           allow_negative_numbers = true, value_parser = parse_export_colours)]
     pub export_exposure: VertexColours,
+    /// The lit mesh's vertex radiosity (exports, `--mode radiosity` and `raytrace`):
+    /// `evaluated` at each vertex as the final picture is (exact direct light, near field) and
+    /// its triangles split where interpolation misses by more than --display-tolerance, or
+    /// `averaged` from the elements around each vertex (docs/raytracing.md).
+    #[arg(long, value_enum, default_value_t = Display::Evaluated)]
+    pub display: Display,
+    /// With --display evaluated: the largest error, in per cent of the luminance, that
+    /// interpolating along an edge may make at its midpoint before the edge is split.
+    #[arg(long, value_name = "PERCENT", default_value_t = 1.0, value_parser = positive_f64)]
+    pub display_tolerance: f64,
     /// When a solve is interrupted, replace existing outputs with the partial results too (by
     /// default an interrupted run writes only outputs that do not exist yet).
     #[arg(long)]
@@ -526,6 +536,15 @@ pub enum Mode {
     /// exactly (Lambert's formula, shadow rays in penumbrae), indirect light from the solution;
     /// mirrors and glass traced.
     Final,
+}
+
+/// `--display`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Display {
+    /// Evaluated at each vertex, the triangles split where interpolation misses.
+    Evaluated,
+    /// The area-weighted mean of the elements around each vertex.
+    Averaged,
 }
 
 /// `--solver`.

@@ -24,7 +24,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         let common = &args.common;
         let (scene, load) = job::load(&args.scene, common)?;
         let (camera, raster) = job::frame(&scene, &args.frame, args.samples)?;
-        let solved = job::run_solve(scene, common)?;
+        let solved = job::run_solve(scene, common, true)?;
         if solved.solution.interrupted {
             // Three renders, one of them possibly ray-traced: after a Ctrl-C the run ends now.
             let outputs = job::Outputs {

@@ -71,7 +71,7 @@ pub fn solve(args: &SolveArgs) -> Result<()> {
     in_pool(args.common.run.threads, || {
         let start = Instant::now();
         let (scene, load) = load(&args.scene, &args.common)?;
-        let solved = run_solve(scene, &args.common)?;
+        let solved = run_solve(scene, &args.common, !args.common.outputs.export.is_empty())?;
         let outputs = Outputs {
             batch: Batch::new(),
             start,
@@ -146,7 +146,8 @@ fn render_job(args: &RenderArgs) -> Result<()> {
         }
         return commit(batch, common);
     }
-    let solved = run_solve(scene, common)?;
+    let shows_lit = args.mode != Mode::Final || !common.outputs.export.is_empty();
+    let solved = run_solve(scene, common, shows_lit)?;
 
     let render_start = Instant::now();
     let mut batch = Batch::new();
@@ -291,9 +292,13 @@ fn pick_camera(scene: &Scene, name: Option<&str>, view: &ViewArgs) -> Result<Cam
 }
 
 /// Meshes, computes form factors and solves, with progress bars when stderr is a terminal.
-/// Ctrl-C stops the solve (see [`Interrupted`]); `--checkpoint` and `--resume` apply.
-pub(crate) fn run_solve(scene: Scene, common: &CommonArgs) -> Result<Solved> {
-    let settings = settings::pipeline_settings(common)?;
+/// Ctrl-C stops the solve (see [`Interrupted`]); `--checkpoint` and `--resume` apply. The lit
+/// mesh is refined for display (`--display`) only if `shows_lit`: something will show it.
+pub(crate) fn run_solve(scene: Scene, common: &CommonArgs, shows_lit: bool) -> Result<Solved> {
+    let mut settings = settings::pipeline_settings(common)?;
+    if !shows_lit {
+        settings.display = pipeline::Display::Averaged;
+    }
     let control = control(common)?;
     let bars = Bars::new(!common.run.quiet && std::io::stderr().is_terminal());
     let solved = pipeline::solve_controlled(scene, &settings, &control, &bars);

@@ -163,6 +163,7 @@ fn worst_object(
     let settings = Settings {
         subdivision: Subdivision::default(),
         discontinuity: false,
+        display: pipeline::Display::Averaged,
         form_factors: formfactor::Settings::of(ff),
         solve: solve::Settings::default(),
         method: match solver {

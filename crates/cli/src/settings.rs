@@ -3,9 +3,10 @@
 use radiosity::formfactor;
 use radiosity::mesh::Subdivision;
 use radiosity::pipeline;
+use radiosity::render::raytrace::evaluate::display_refinement;
 use radiosity::solve;
 
-use crate::args::{CommonArgs, FormFactors, Quality, Solver};
+use crate::args::{CommonArgs, Display, FormFactors, Quality, Solver};
 
 /// Elements of `--quality final`.
 const FINAL_ELEMENTS: usize = 16_000;
@@ -29,6 +30,13 @@ pub fn pipeline_settings(common: &CommonArgs) -> anyhow::Result<pipeline::Settin
         settings.subdivision = Subdivision::MaxArea(a);
     }
     settings.discontinuity = common.mesh.discontinuity_meshing;
+    settings.display = match common.outputs.display {
+        Display::Evaluated => pipeline::Display::Evaluated(display_refinement::Settings {
+            tolerance: common.outputs.display_tolerance / 100.0,
+            ..display_refinement::Settings::default()
+        }),
+        Display::Averaged => pipeline::Display::Averaged,
+    };
     settings.form_factors = form_factor_settings(common)?;
     if let Some(n) = common.mesh.sources {
         settings.solve.max_sources = usize::try_from(n).unwrap_or(usize::MAX);

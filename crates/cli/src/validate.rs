@@ -314,6 +314,7 @@ fn solved(scene: Scene, elements: usize, method: formfactor::Method) -> anyhow::
     let settings = Settings {
         subdivision: Subdivision::Elements(elements),
         discontinuity: false,
+        display: pipeline::Display::Averaged,
         form_factors: formfactor::Settings::of(method),
         solve: solve::Settings {
             tolerance: 1e-9,

@@ -149,6 +149,47 @@ fn discontinuity_meshing_cuts_the_shadows_and_keeps_the_answer() {
     }
 }
 
+/// The vertex count in the header of PLY file `path`.
+fn ply_vertices(path: &Path) -> usize {
+    let bytes = fs::read(path).expect("ply");
+    let header = String::from_utf8_lossy(&bytes[..bytes.len().min(4096)]).into_owned();
+    header
+        .lines()
+        .find_map(|l| l.strip_prefix("element vertex "))
+        .expect("vertex count")
+        .trim()
+        .parse()
+        .expect("a number")
+}
+
+#[test]
+fn exports_are_refined_for_display_unless_averaged() {
+    let dir = scratch("display");
+    let solve = |extra: &[&str], name: &str| {
+        let (ply, stats) = (format!("{name}.ply"), format!("{name}.json"));
+        let mut args = vec!["solve", "cornell", "--elements", "300", "--export", &ply];
+        args.extend_from_slice(&["--stats", &stats]);
+        args.extend_from_slice(extra);
+        let out = run(&dir, &args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        (ply_vertices(&dir.join(&ply)), read_json(&dir.join(&stats)))
+    };
+    let (averaged, plain) = solve(&["--display", "averaged"], "averaged");
+    let (refined, stats) = solve(&[], "refined");
+    let (coarse, _) = solve(&["--display-tolerance", "20"], "coarse");
+    assert!(plain["timings"].get("display").is_none());
+    assert!(stats["timings"]["display"].as_f64().expect("seconds") > 0.0);
+    // Corners, shadow edges and the light's footprint need vertices the elements do not
+    // have; a looser tolerance needs fewer.
+    assert!(refined > 2 * averaged, "{averaged} → {refined}");
+    assert!(
+        averaged < coarse && coarse < refined,
+        "{averaged}, {coarse}, {refined}"
+    );
+    // Only the lit mesh changes: the per-object answer is the solve's.
+    assert_eq!(plain["objects"], stats["objects"]);
+}
+
 #[test]
 fn render_writes_png_and_stats_with_the_contract_keys() {
     let dir = scratch("render");
@@ -193,6 +234,8 @@ fn render_writes_png_and_stats_with_the_contract_keys() {
         keys(&stats["solver"]),
         set(&["method", "iterations", "residual"])
     );
+    // The default render (`--mode final`, no export) does not show the lit mesh, so it is not
+    // refined for display and `timings.display` is left out.
     let timings = ["load", "mesh", "form_factors", "solve", "render", "total"];
     assert_eq!(keys(&stats["timings"]), set(&timings));
     assert_eq!(keys(&stats["energy"]), set(&["emitted", "absorbed"]));

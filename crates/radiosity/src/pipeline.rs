@@ -10,6 +10,7 @@ use crate::accel::Bvh;
 use crate::formfactor::{self, Geometry};
 use crate::mesh::{display, LitMesh, Mesh, Subdivision};
 use crate::progress::Progress;
+use crate::render::raytrace::evaluate::display_refinement;
 use crate::render::{self, local, raytrace, Image, Mode, RasterSettings, Watch};
 use crate::scene::Camera;
 use crate::solve::checkpoint::{hash_text, Control};
@@ -31,6 +32,19 @@ pub struct Settings {
     pub solve: solve::Settings,
     /// The solver method, or `None` for the automatic choice ([`plan`]).
     pub method: Option<solve::Method>,
+    /// How the lit mesh gets its vertex radiosity.
+    pub display: Display,
+}
+
+/// How the lit mesh (exports, `--mode radiosity`) gets its vertex radiosity.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Display {
+    /// The area-weighted mean of the elements around each vertex (borders extrapolated).
+    #[default]
+    Averaged,
+    /// Evaluated at each vertex, the triangles split where interpolation misses
+    /// ([`display_refinement`]).
+    Evaluated(display_refinement::Settings),
 }
 
 /// Why a pipeline run failed.
@@ -175,9 +189,25 @@ pub fn solve_controlled(
     )?;
     timings.form_factors = solution.form_factor_seconds;
     timings.solve = solution.solve_seconds;
-    let (mesh, solution) = solution.on_finest(mesh);
+    let (mesh, mut solution) = solution.on_finest(mesh);
     let absorbed = absorbed_power(&mesh, &solution);
-    let lit = display::lit_mesh_extrapolating_borders(&mesh, &solution.radiosity);
+    let averaged = || display::lit_mesh_extrapolating_borders(&mesh, &solution.radiosity);
+    let lit = match settings.display {
+        Display::Evaluated(refinement) if !solution.interrupted => {
+            let start = Instant::now();
+            let watch = Watch {
+                progress,
+                stop: control.stop.as_deref(),
+            };
+            let refined =
+                display_refinement::lit_mesh(&scene, &mesh, &solution, &refinement, &watch);
+            timings.display = start.elapsed().as_secs_f64();
+            // Stopped there, the run is interrupted as if in the solve.
+            solution.interrupted |= refined.is_none();
+            refined.unwrap_or_else(averaged)
+        }
+        Display::Evaluated(_) | Display::Averaged => averaged(),
+    };
     Ok(Solved {
         scene,
         mesh,
@@ -228,8 +258,8 @@ impl Solved {
                 raytrace::render(scene, mesh, lit, camera, raster, settings, watch)
             }
             Mode::Final(settings) => {
-                let radiosity = &self.solution.radiosity;
-                raytrace::evaluate::render(scene, mesh, radiosity, camera, raster, settings, watch)
+                let solution = &self.solution;
+                raytrace::evaluate::render(scene, mesh, solution, camera, raster, settings, watch)
             }
         }
     }
@@ -253,6 +283,7 @@ impl Solved {
                 mesh: self.timings.mesh,
                 form_factors: self.timings.form_factors,
                 solve: self.timings.solve,
+                display: self.timings.display,
                 ..*timings
             },
             energy: Energy {

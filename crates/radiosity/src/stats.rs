@@ -84,10 +84,21 @@ pub struct Timings {
     pub form_factors: f64,
     /// The solver's iterations.
     pub solve: f64,
+    /// Evaluating and refining the lit mesh for display (`render::raytrace::evaluate::
+    /// display_refinement`); the key is left out where the lit mesh is the elements' averages
+    /// (as for `render` in its default mode without `--export`, which does not show it).
+    #[serde(skip_serializing_if = "no_time")]
+    pub display: f64,
     /// Rendering images.
     pub render: f64,
     /// Everything, from start to the last file written.
     pub total: f64,
+}
+
+/// Whether a stage took no time at all (it did not run).
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde passes fields by reference
+fn no_time(seconds: &f64) -> bool {
+    *seconds == 0.0
 }
 
 /// Emitted and absorbed power per channel.

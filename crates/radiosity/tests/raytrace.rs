@@ -62,7 +62,7 @@ fn evaluate(s: &Solved, raster: &RasterSettings, settings: &RaytraceSettings) ->
     raytrace::evaluate::render(
         &s.scene,
         &s.mesh,
-        &s.solution.radiosity,
+        &s.solution,
         &s.scene.cameras[0],
         raster,
         settings,

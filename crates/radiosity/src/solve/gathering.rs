@@ -56,6 +56,17 @@ pub(super) fn solve(job: Job, solution: &mut Solution, sweeps: Sweeps) -> Result
     let run = sweeps(&system, &matrix, settings, &mut session, progress);
     progress.finish();
     solution.irradiance = system.irradiance(&matrix, &run.radiosity);
+    // The gather is linear in B but for the buried emission it takes off every source's mean,
+    // which is the same for B and for E alone: it cancels in the difference.
+    let direct = system.irradiance(&matrix, &system.emission);
+    solution.reflected_irradiance = Some(
+        solution
+            .irradiance
+            .iter()
+            .zip(&direct)
+            .map(|(&h, &d)| h - d)
+            .collect(),
+    );
     solution.radiosity = run.radiosity;
     solution.iterations = run.iterations;
     solution.residual = run.residual;

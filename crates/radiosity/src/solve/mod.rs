@@ -152,6 +152,13 @@ pub struct Solution {
     /// Irradiance H per element, the light each element gathered (B = E + ρH): what the
     /// absorbed power Σ A (1 − ρ) H is made of, also where ρ = 0 says nothing of it.
     pub irradiance: Vec<Rgb>,
+    /// The part of `irradiance` that came from other surfaces' reflected light, Σ_s F_es
+    /// (B̄_s − Ē_s): the irradiance less the light straight from the emitters, through the same
+    /// form factors, so that the error of those form factors (shadow rays in penumbrae) stays
+    /// in the direct part, which the evaluated picture recomputes exactly
+    /// (`render::raytrace::evaluate`). `None` where the solver does not keep it (progressive
+    /// and hierarchical radiosity).
+    pub reflected_irradiance: Option<Vec<Rgb>>,
     /// The solver used.
     pub method: Method,
     /// Sweeps (gathering) or shots (progressive) done.
@@ -206,6 +213,7 @@ impl Solution {
                 } = *refined;
                 self.radiosity = radiosity;
                 self.irradiance = irradiance;
+                self.reflected_irradiance = None;
                 (mesh, self)
             }
             None => (given, self),
@@ -290,6 +298,7 @@ pub fn solve_controlled(
     let mut solution = Solution {
         radiosity: system.emission.clone(),
         irradiance: vec![Rgb::ZERO; system.area.len()],
+        reflected_irradiance: None,
         method,
         iterations: 0,
         residual: 0.0,

@@ -231,7 +231,7 @@ fn render_evaluated(
                 world.mesh(),
                 g.point / count,
                 g.normal.normalize_or(g.normal / count),
-                g.patch,
+                (g.patch, g.rays[0].0),
                 tracer.settings.shadow_samples,
                 &mut g.sampler,
             );
@@ -312,7 +312,7 @@ impl Tracer<'_> {
                     world.mesh(),
                     hit.point,
                     hit.shading,
-                    world.patch(hit.triangle),
+                    (world.patch(hit.triangle), d),
                     self.settings.shadow_samples,
                     sampler,
                 );

@@ -324,12 +324,28 @@ impl<'a> World<'a> {
         self.object_size.get(o as usize).copied().unwrap_or(0.0)
     }
 
+    /// The unit shading normal at barycentrics (u, v) of lit triangle `t`, on its front.
+    #[must_use]
+    pub fn shading_normal(&self, t: u32, u: f32, v: f32) -> Vec3 {
+        let n = self.normals[t as usize];
+        let [a, b, c] = self.lit.triangles[t as usize].map(|i| self.lit.positions[i as usize]);
+        let geometric = (b - a).cross(c - a).normalize_or_zero();
+        (n[0] * (1.0 - u - v) + n[1] * u + n[2] * v).normalize_or(geometric)
+    }
+
     /// The radiosity solution's radiance B(x)/π at barycentrics (u, v) of lit triangle `t`.
     #[must_use]
-    pub fn radiance(&self, (t, u, v): (u32, f32, f32)) -> Rgb {
-        let b = self.lit.triangles[t as usize].map(|i| self.lit.radiosity[i as usize]);
+    pub fn radiance(&self, at: (u32, f32, f32)) -> Rgb {
+        self.interpolated(&self.lit.radiosity, at) / std::f64::consts::PI
+    }
+
+    /// `values` (one per lit-mesh vertex) interpolated at barycentrics (u, v) of lit triangle
+    /// `t`.
+    #[must_use]
+    pub fn interpolated(&self, values: &[Rgb], (t, u, v): (u32, f32, f32)) -> Rgb {
+        let b = self.lit.triangles[t as usize].map(|i| values[i as usize]);
         let (u, v) = (f64::from(u), f64::from(v));
-        (b[0] * (1.0 - u - v) + b[1] * u + b[2] * v) / std::f64::consts::PI
+        b[0] * (1.0 - u - v) + b[1] * u + b[2] * v
     }
 
     /// Radiance emitted toward the ray that made `hit`: L_e = E/π of the triangle hit from its

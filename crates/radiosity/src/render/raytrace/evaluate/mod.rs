@@ -67,6 +67,7 @@
 //! The solve stays viewer-independent; only the picture is evaluated per point. Mirrors and
 //! glass are traced as by [`super::render`].
 
+pub mod display_refinement;
 mod luminaires;
 mod near_field;
 
@@ -78,9 +79,10 @@ use self::near_field::{NearField, PIECES};
 use super::sample::Sampler;
 use super::world::World;
 use super::{trace_image, RaytraceSettings, Watch};
-use crate::mesh::{display, Mesh};
+use crate::mesh::{display, LitMesh, Mesh};
 use crate::render::{Image, RasterSettings};
 use crate::scene::Camera;
+use crate::solve::Solution;
 use crate::{Rgb, Scene};
 
 /// The far part's radiosity is divided by the share of the view left to it; never by less.
@@ -92,11 +94,14 @@ const MIN_FAR_SHARE: f64 = 0.05;
 pub(super) struct Evaluation {
     luminaires: Luminaires,
     near: NearField,
+    /// k of each element ([`far_radiosity`]), per vertex of the lit mesh as its radiosity is.
+    scale: Vec<Rgb>,
 }
 
 impl Evaluation {
-    /// ρ · (E_d + N) at a point of `patch`, and the share of its view that the near field
-    /// takes from the far part.
+    /// ρ · (E_d + k N) at a point of `patch` (at barycentrics `at` of a triangle of the far
+    /// part's lit mesh, where k is interpolated), and the share of its view that the near
+    /// field takes from the far part.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn radiosity(
         &self,
@@ -104,7 +109,7 @@ impl Evaluation {
         mesh: &Mesh,
         point: Vec3,
         normal: Vec3,
-        patch: u32,
+        (patch, at): (u32, (u32, f32, f32)),
         samples: u32,
         sampler: &mut Sampler,
     ) -> (Rgb, f64) {
@@ -113,12 +118,19 @@ impl Evaluation {
             .luminaires
             .irradiance(world, point, normal, samples, sampler);
         let (near, share, _) = self.near.irradiance(mesh, point, normal, patch);
-        (rho * (direct + near), share)
+        let scale = world.interpolated(&self.scale, at);
+        (rho * (direct + scale * near), share)
     }
 
     /// The far part R of every element's indirect light and B − E at its pieces (see
     /// [`far_radiosity`]), the pieces then shown to the near field.
-    fn settle(&mut self, world: &World, mesh: &Mesh, radiosity: &[Rgb], samples: u32) -> Vec<Rgb> {
+    fn settle(
+        &mut self,
+        world: &World,
+        mesh: &Mesh,
+        (radiosity, reflected): (&[Rgb], Option<&[Rgb]>),
+        samples: u32,
+    ) -> Vec<Rgb> {
         let direct: Vec<[Rgb; PIECES]> = (0..mesh.element_count())
             .into_par_iter()
             .map(|e| {
@@ -133,96 +145,143 @@ impl Evaluation {
                 })
             })
             .collect();
-        let first = far_radiosity(mesh, radiosity, &self.near, &direct, None);
-        self.near.values = first.iter().map(|f| f.1).collect();
-        let first: Vec<Option<Rgb>> = first
-            .iter()
-            .map(|&(r, _, near)| (!near).then_some(r))
-            .collect();
-        far_radiosity(mesh, radiosity, &self.near, &direct, Some(&first))
-            .into_iter()
-            .map(|f| f.0)
-            .collect()
+        let solution = (radiosity, reflected);
+        let first = far_radiosity(mesh, solution, &self.near, &direct, None);
+        self.near.values = first.iter().map(|f| f.pieces).collect();
+        let first: Vec<Option<Far>> = first.iter().map(|f| (!f.by_pieces).then_some(*f)).collect();
+        let split = far_radiosity(mesh, solution, &self.near, &direct, Some(&first));
+        let scale: Vec<Rgb> = split.iter().map(|f| f.scale).collect();
+        self.scale = display::lit_mesh(mesh, &scale).radiosity;
+        split.iter().map(|f| f.far).collect()
     }
 }
 
-/// Renders `mesh` (built from `scene`, solved to the per-element `radiosity`) with the direct
-/// light evaluated at each visible point and the indirect light from the solution (see the
-/// module docs). `None` if `watch` stopped it.
+/// Renders `mesh` (built from `scene`, solved to `solution`) with the direct light evaluated
+/// at each visible point and the indirect light from the solution (see the module docs).
+/// `None` if `watch` stopped it.
 #[must_use]
 pub fn render(
     scene: &Scene,
     mesh: &Mesh,
-    radiosity: &[Rgb],
+    solution: &Solution,
     camera: &Camera,
     image: &RasterSettings,
     settings: &RaytraceSettings,
     watch: &Watch,
 ) -> Option<Image> {
-    let mut evaluation = Evaluation {
-        luminaires: Luminaires::new(mesh),
-        near: NearField::new(mesh, radiosity),
-    };
-    // The geometry of the lit mesh does not depend on the values it carries: a world over the
-    // solution's lit mesh finds each element's direct light, one over the far part shades.
-    let full = display::lit_mesh(mesh, radiosity);
-    let far = evaluation.settle(
-        &World::new(scene, mesh, &full),
-        mesh,
-        radiosity,
-        settings.shadow_samples,
-    );
-    let lit = display::lit_mesh_extrapolating_borders(mesh, &far);
+    let (evaluation, _, lit) = prepare(scene, mesh, solution, settings.shadow_samples);
     let world = World::new(scene, mesh, &lit);
     trace_image(&world, Some(&evaluation), camera, image, settings, watch)
 }
 
-/// (B(e) − E(e) − ρ(e) · (Ē_d(e) + N̄(e))) / (1 − S̄(e)) for every element: the far part of
-/// its indirect light per share of the view left to it (see the module docs), the means taken
-/// over its pieces (`direct`: ρ E_d at each); B − E at each piece, ρ (E_d + N) + R (1 − S)
-/// there, which the near field shows to the points next to the element; and whether some
-/// piece sees an element close enough to be shown by its pieces. Where `known` holds an
-/// element's R already (none of its pieces sees such an element, so that the pieces change
-/// nothing), that is taken instead.
+/// What evaluating `radiosity` at points needs: the exact direct light and the near field
+/// settled on the pieces, the solution's lit mesh (averaged), and the lit mesh of the far part
+/// R with its border vertices extrapolated. The two lit meshes have the same triangles.
+fn prepare(
+    scene: &Scene,
+    mesh: &Mesh,
+    solution: &Solution,
+    samples: u32,
+) -> (Evaluation, LitMesh, LitMesh) {
+    let radiosity = &solution.radiosity;
+    let mut evaluation = Evaluation {
+        luminaires: Luminaires::new(mesh),
+        near: NearField::new(mesh, radiosity),
+        scale: Vec::new(),
+    };
+    // The geometry of the lit mesh does not depend on the values it carries: a world over the
+    // solution's lit mesh finds each element's direct light, one over the far part shades.
+    let full = display::lit_mesh(mesh, radiosity);
+    let world = World::new(scene, mesh, &full);
+    let reflected = solution.reflected_irradiance.as_deref();
+    let far = evaluation.settle(&world, mesh, (radiosity, reflected), samples);
+    let lit = display::lit_mesh_extrapolating_borders(mesh, &far);
+    (evaluation, full, lit)
+}
+
+/// An element's split of its indirect light (see [`far_radiosity`]).
+#[derive(Clone, Copy, Debug)]
+struct Far {
+    /// R: the far part per share of the view left to it.
+    far: Rgb,
+    /// k: the factor of the near part (1 unless the near part alone exceeds the indirect
+    /// light).
+    scale: Rgb,
+    /// B − E at each piece.
+    pieces: [Rgb; PIECES],
+    /// Whether some piece sees an element close enough to be shown by its pieces.
+    by_pieces: bool,
+}
+
+/// Every element's split of its indirect light B_i = B − E − ρ Ē_d into the near part and the
+/// far part, the means taken over its pieces (`direct`: ρ E_d at each):
+///
+/// ```text
+/// R = (B_i − ρ N̄) / (1 − S̄),   k = 1          where ρ N̄ ≤ B_i,
+/// R = 0,                        k = B_i / (ρ N̄) where the near part alone exceeds B_i,
+/// ```
+///
+/// per channel. The near field takes every surface within reach as seen, so in a narrow space
+/// (a shelf's compartment, the gap behind it) it can count more light than the solution's
+/// visibility lets the element gather; a negative R there made points of the element swing far
+/// from its mean (to zero and below), so the near part is scaled down to the indirect light
+/// instead, keeping the mean. B − E at each piece is ρ E_d + k ρ N + R (1 − S) there, which the
+/// near field shows to the points next to the element. Where `known` holds an element's split
+/// already (none of its pieces sees an element close enough to be shown by its pieces, so the
+/// pieces change nothing), that is taken instead.
 fn far_radiosity(
     mesh: &Mesh,
-    radiosity: &[Rgb],
+    (radiosity, reflected): (&[Rgb], Option<&[Rgb]>),
     near_field: &NearField,
     direct: &[[Rgb; PIECES]],
-    known: Option<&[Option<Rgb>]>,
-) -> Vec<(Rgb, [Rgb; PIECES], bool)> {
+    known: Option<&[Option<Far>]>,
+) -> Vec<Far> {
     (0..mesh.element_count())
         .into_par_iter()
         .map(|e| {
             if let Some(far) = known.and_then(|k| k[e]) {
-                return (far, [Rgb::ZERO; PIECES], false);
+                return far;
             }
             let node = mesh.element(e);
             let patch = &mesh.patches[node.patch as usize];
             let at = &near_field.pieces[e];
-            let mut parts = [(Rgb::ZERO, 0.0); PIECES];
-            let (mut near, mut share, mut area, mut by_pieces) = (Rgb::ZERO, 0.0, 0.0, false);
+            let mut parts = [(Rgb::ZERO, Rgb::ZERO, 0.0); PIECES];
+            let (mut lit, mut near, mut share, mut area) = (Rgb::ZERO, Rgb::ZERO, 0.0, 0.0);
+            let mut by_pieces = false;
             for k in 0..PIECES {
                 let (n, s, p) =
                     near_field.irradiance(mesh, at.centroids[k], patch.normal, node.patch);
-                parts[k] = (direct[e][k] + patch.reflectance * n, s);
+                parts[k] = (direct[e][k], patch.reflectance * n, s);
                 let a = at.areas[k];
-                near += parts[k].0 * a;
+                lit += parts[k].0 * a;
+                near += parts[k].1 * a;
                 share += s * a;
                 area += a;
                 by_pieces |= p;
             }
-            let reflected = radiosity[e] - patch.emission;
-            let left = (1.0 - share / area).max(MIN_FAR_SHARE);
-            let far = (reflected - near / area) / left;
-            // Where the far share was clamped the pieces' mean is not the element's: shifted
-            // back, so that the pieces only redistribute the element's light.
-            let shift = reflected - (near / area + far * (1.0 - share / area));
-            (
+            let (lit, near, share) = (lit / area, near / area, share / area);
+            let indirect = match reflected {
+                Some(h) => patch.reflectance * h[e],
+                None => radiosity[e] - patch.emission - lit,
+            };
+            let left = (1.0 - share).max(MIN_FAR_SHARE);
+            let (mut far, mut scale) = (Rgb::ZERO, Rgb::ONE);
+            for c in 0..3 {
+                if near[c] > indirect[c] {
+                    scale[c] = (indirect[c] / near[c]).max(0.0);
+                } else {
+                    far[c] = (indirect[c] - near[c]) / left;
+                }
+            }
+            // Where the far share was clamped (or B_i < 0) the pieces' mean is not the
+            // element's: shifted back, so that the pieces only redistribute its light.
+            let shift = indirect - (scale * near + far * (1.0 - share));
+            Far {
                 far,
-                parts.map(|(b, s)| b + far * (1.0 - s) + shift),
+                scale,
+                pieces: parts.map(|(d, n, s)| d + scale * n + far * (1.0 - s) + shift),
                 by_pieces,
-            )
+            }
         })
         .collect()
 }
@@ -280,8 +339,9 @@ vertices = [[-0.1, 2, -0.1], [0.1, 2, -0.1], [0.1, 2, 0.1], [-0.1, 2, 0.1]]
         let mut evaluation = Evaluation {
             luminaires: Luminaires::new(&mesh),
             near: NearField::new(&mesh, &radiosity),
+            scale: Vec::new(),
         };
-        let far = evaluation.settle(&world, &mesh, &radiosity, 16);
+        let far = evaluation.settle(&world, &mesh, (&radiosity, None), 16);
         let mut clamped = 0;
         for e in 0..mesh.element_count() {
             let at = &evaluation.near.pieces[e];
@@ -297,7 +357,14 @@ vertices = [[-0.1, 2, -0.1], [0.1, 2, -0.1], [0.1, 2, 0.1], [-0.1, 2, 0.1]]
                 (mean - want).abs().max_element() < 1e-9 * want.max_element().max(1.0),
                 "element {e}: pieces' mean {mean:?}, element {want:?}"
             );
-            assert!(far[e].is_finite(), "element {e}: far part {:?}", far[e]);
+            // Under the plate the near field counts the plate's light as seen from every
+            // point; where that exceeds the element's indirect light the near part is scaled
+            // down rather than the far part made negative.
+            assert!(
+                far[e].is_finite() && far[e].min_element() >= 0.0,
+                "element {e}: far part {:?}",
+                far[e]
+            );
             let node = mesh.element(e);
             let share: f64 = (0..PIECES)
                 .map(|k| {
