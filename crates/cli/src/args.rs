@@ -214,8 +214,9 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub frame: FrameArgs,
     /// Antialiasing samples per pixel, taken as an s×s grid: a square, 1, 4, 9, ... 64
-    /// (others are refused). Default: 4; 64 with `--mode final`, which evaluates the light once
-    /// per pixel and surface and uses the samples for the edges' coverage.
+    /// (others are refused). Default: 64 with `--mode final` (it evaluates the light once per
+    /// pixel and surface and uses the samples for the edges' coverage) and `--mode radiosity`
+    /// (rasterized); 4 with `raytrace` and `local`.
     #[arg(long, value_parser = square_samples)]
     pub samples: Option<u32>,
     /// Exposure of .png outputs in stops (radiance × 2^STOPS); default: automatic (the

@@ -157,7 +157,7 @@ pub struct Solution {
     /// form factors, so that the error of those form factors (shadow rays in penumbrae) stays
     /// in the direct part, which the evaluated picture recomputes exactly
     /// (`render::raytrace::evaluate`). `None` where the solver does not keep it (progressive
-    /// and hierarchical radiosity).
+    /// refinement; hierarchical radiosity keeps it for its refined mesh, [`Refined`]).
     pub reflected_irradiance: Option<Vec<Rgb>>,
     /// The solver used.
     pub method: Method,
@@ -197,6 +197,8 @@ pub struct Refined {
     pub radiosity: Vec<Rgb>,
     /// Irradiance H per element of `mesh`.
     pub irradiance: Vec<Rgb>,
+    /// Its part from reflected light (see [`Solution::reflected_irradiance`]).
+    pub reflected_irradiance: Option<Vec<Rgb>>,
 }
 
 impl Solution {
@@ -210,10 +212,11 @@ impl Solution {
                     mesh,
                     radiosity,
                     irradiance,
+                    reflected_irradiance,
                 } = *refined;
                 self.radiosity = radiosity;
                 self.irradiance = irradiance;
-                self.reflected_irradiance = None;
+                self.reflected_irradiance = reflected_irradiance;
                 (mesh, self)
             }
             None => (given, self),

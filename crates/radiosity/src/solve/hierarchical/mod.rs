@@ -92,6 +92,9 @@ pub struct Outcome {
     pub node_radiosity: Vec<Rgb>,
     /// Irradiance of every element of the refined mesh in the last iteration.
     pub irradiance: Vec<Rgb>,
+    /// The part of it from other surfaces' reflected light (the irradiance less what the same
+    /// links carry from the emission alone).
+    pub reflected_irradiance: Vec<Rgb>,
     /// Gather iterations over all stages.
     pub iterations: usize,
     /// The final residual.
@@ -162,6 +165,7 @@ impl Solver for Hierarchical {
             mesh,
             radiosity,
             irradiance: run.irradiance,
+            reflected_irradiance: Some(run.reflected_irradiance),
         }));
         Ok(())
     }
@@ -215,6 +219,7 @@ pub fn run(
     let mut out = Outcome {
         node_radiosity: Vec::new(),
         irradiance: vec![Rgb::ZERO; mesh.element_count()],
+        reflected_irradiance: vec![Rgb::ZERO; mesh.element_count()],
         iterations: 0,
         residual: 0.0,
         refine_seconds: 0.0,
@@ -392,6 +397,13 @@ pub fn run(
     }
     progress.finish();
     out.irradiance = state.element_irradiance(mesh);
+    let direct = state.emitted_irradiance(mesh, &clusters, &links);
+    out.reflected_irradiance = out
+        .irradiance
+        .iter()
+        .zip(&direct)
+        .map(|(&h, &d)| h - d)
+        .collect();
     out.stats.links = links.len() as u64;
     out.stats.levels = mesh
         .elements

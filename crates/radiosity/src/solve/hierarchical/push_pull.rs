@@ -245,6 +245,23 @@ impl State {
         }
     }
 
+    /// The irradiance each element gathers, through `links`, from the emission alone (every
+    /// leaf's radiosity set to its E, pulled, gathered and pushed): the direct part of
+    /// [`State::element_irradiance`], which the evaluated picture replaces by its own exact
+    /// direct light (`Solution::reflected_irradiance`).
+    #[must_use]
+    pub fn emitted_irradiance(&self, mesh: &Mesh, clusters: &Clusters, links: &[Link]) -> Vec<Rgb> {
+        let mut lit = self.clone();
+        for &n in &mesh.elements {
+            let patch = &mesh.patches[mesh.nodes[n as usize].patch as usize];
+            lit.node_b[n as usize] = patch.emission;
+        }
+        lit.pull(mesh, clusters);
+        lit.gather(mesh, clusters, links);
+        lit.push(mesh, clusters);
+        lit.element_irradiance(mesh)
+    }
+
     /// The irradiance that each element received in the last iteration (after the push).
     #[must_use]
     pub fn element_irradiance(&self, mesh: &Mesh) -> Vec<Rgb> {
