@@ -13,6 +13,7 @@
 use glam::Vec3;
 
 use super::build::{build, Inputs, MAX_DEPTH};
+use super::isa::le_mask;
 use super::node::{is_leaf, leaf_range, leaf_ref, Aabb, Node, EMPTY_CHILD, MAX_TRIANGLES, WIDTH};
 use super::packet::{Tri4, LANES};
 use super::pages::{huge_copy, huge_vec};
@@ -267,8 +268,17 @@ impl Bvh {
             return;
         }
         let overlaps = |b: &Aabb| query.min.cmple(b.max).all() && b.min.cmple(query.max).all();
-        let mut stack = vec![self.root];
-        while let Some(cur) = stack.pop() {
+        // A node's eight children at once: their planes decoded together, each of the six
+        // comparisons one mask (the query's low corner below every child's high planes, and
+        // every child's low planes below the query's high corner).
+        let low = [query.min.x, query.min.y, query.min.z].map(|x| [x; WIDTH]);
+        let high = [query.max.x, query.max.y, query.max.z].map(|x| [x; WIDTH]);
+        let mut stack = [0u32; DEEP_STACK];
+        stack[0] = self.root;
+        let mut depth = 1;
+        while depth > 0 {
+            depth -= 1;
+            let cur = stack[depth];
             if is_leaf(cur) {
                 let (first, count) = leaf_range(cur);
                 for p in first..first + count {
@@ -283,10 +293,17 @@ impl Bvh {
                 continue;
             }
             let node = &self.nodes[cur as usize];
-            for k in 0..WIDTH {
-                if node.child[k] != EMPTY_CHILD && overlaps(&node.child_box(k)) {
-                    stack.push(node.child[k]);
-                }
+            let planes = node.planes();
+            let mut hit = node.children();
+            for axis in 0..3 {
+                hit &= le_mask(&low[axis], &planes[2 * axis + 1]);
+                hit &= le_mask(&planes[2 * axis], &high[axis]);
+            }
+            while hit != 0 {
+                let k = hit.trailing_zeros() as usize;
+                hit &= hit - 1;
+                stack[depth] = node.child[k];
+                depth += 1;
             }
         }
     }

@@ -170,6 +170,16 @@ impl Refiner<'_> {
         (emission + at_point + far * (1.0 - share)).max(Rgb::ZERO)
     }
 
+    /// [`Refiner::value`], or nothing once `watch` is stopped (a round's evaluations take
+    /// seconds; Ctrl-C must not wait for them).
+    fn value_unless(&self, point: Vec3, t: u32, at: [f32; 2], watch: &Watch) -> Rgb {
+        if watch.stopped() {
+            Rgb::ZERO
+        } else {
+            self.value(point, t, at)
+        }
+    }
+
     fn refine(&self, averaged: &LitMesh, settings: &Settings, watch: &Watch) -> Option<LitMesh> {
         let world = self.world;
         let diffuse = |t: u32| !world.material(t).is_specular();
@@ -195,8 +205,11 @@ impl Refiner<'_> {
         let evaluated: Vec<Option<Rgb>> = first
             .par_iter()
             .enumerate()
-            .map(|(v, f)| f.map(|(t, at)| self.value(positions[v], t, at)))
+            .map(|(v, f)| f.map(|(t, at)| self.value_unless(positions[v], t, at, watch)))
             .collect();
+        if watch.stopped() {
+            return None;
+        }
         for (v, b) in evaluated.into_iter().enumerate() {
             if let Some(b) = b {
                 values[v] = b;
@@ -251,8 +264,12 @@ impl Refiner<'_> {
             }
             let at_midpoints: Vec<Rgb> = tests
                 .par_iter()
-                .map(|m| self.value(m.point, m.triangle, m.at))
+                .map(|m| self.value_unless(m.point, m.triangle, m.at, watch))
                 .collect();
+            if watch.stopped() {
+                watch.progress.finish();
+                return None;
+            }
             // The failing edges, worst first, within the budget.
             let mut failing: Vec<(f64, usize)> = tests
                 .iter()
@@ -554,6 +571,19 @@ vertices = [[-0.2, 2, -0.2], [0.2, 2, -0.2], [0.2, 2, 0.2], [-0.2, 2, 0.2]]
                 "triangle {t} turned over"
             );
         }
+    }
+
+    #[test]
+    fn a_stopped_refinement_returns_nothing() {
+        let solved = solved(Display::Averaged);
+        let stop = std::sync::atomic::AtomicBool::new(true);
+        let watch = Watch {
+            progress: &Silent,
+            stop: Some(&stop),
+        };
+        let settings = Settings::default();
+        let (scene, mesh) = (&solved.scene, &solved.mesh);
+        assert!(lit_mesh(scene, mesh, &solved.solution, &settings, &watch).is_none());
     }
 
     #[test]
