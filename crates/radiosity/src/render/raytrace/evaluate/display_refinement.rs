@@ -27,8 +27,10 @@
 //! to a triangle, so the two triangles that share an edge split it alike and the mesh stays
 //! conforming (no T-vertices, no cracks): a triangle with one split edge is bisected to the
 //! opposite corner, one with two is cut into three (the remaining quadrilateral along its shorter
-//! diagonal), one with three into four. The new triangles' edges are tested in the next round,
-//! up to [`Settings::depth`] rounds (edges 2^depth times shorter than the lit mesh's) and a
+//! diagonal), one with three into four. The new triangles' edges are tested in the next round
+//! (but the halves of an edge that missed by less than [`SMOOTH`] tolerances: a smooth light's
+//! interpolation error falls as the square of the edge, so they pass), up to [`Settings::depth`]
+//! rounds (edges 2^depth times shorter than the lit mesh's) and a
 //! budget of vertices. Adaptive subdivision against an error estimate of the display is the
 //! classic a-posteriori refinement of Cohen & Wallace (1993, §8.4), here measured on the
 //! function the picture shows rather than on the element's gradient.
@@ -77,6 +79,11 @@ impl Default for Settings {
 
 /// The relative error is measured against at least this share of the scene's mean radiosity.
 const FLOOR: f64 = 0.01;
+
+/// An edge split for an error under this many tolerances has halves that need no test: for a
+/// smooth light the interpolation error of an edge falls as the square of its length (a
+/// quarter per halving).
+const SMOOTH: f64 = 4.0;
 
 /// The lit mesh of `mesh` (built from `scene`, solved to `solution`) with its vertices
 /// evaluated at their points and its triangles split where interpolation misses (see the
@@ -286,13 +293,24 @@ impl Refiner<'_> {
             failing.truncate(budget.saturating_sub(positions.len()));
             let mut split = vec![None; tests.len()];
             failing.sort_by_key(|&(_, i)| i);
-            for (_, i) in failing {
-                split[i] = Some(positions.len() as u32);
+            let mut smooth = Vec::new();
+            for (error, i) in failing {
+                let m = positions.len() as u32;
+                split[i] = Some(m);
                 positions.push(tests[i].point);
                 values.push(at_midpoints[i]);
+                if error < SMOOTH * settings.tolerance {
+                    smooth.extend([(tests[i].ends.0, m), (m, tests[i].ends.1)]);
+                }
             }
             for (key, i) in index {
                 decided.insert(key, split[i]);
+            }
+            // Where the light is smooth, linear interpolation's error falls as the square of
+            // the edge: an edge that missed by less than SMOOTH tolerances has halves that
+            // pass, and they are not tested again (only steps and kinks are).
+            for (a, b) in smooth {
+                decided.insert((a.min(b), a.max(b)), None);
             }
             let mut next = Vec::new();
             for p in open {
