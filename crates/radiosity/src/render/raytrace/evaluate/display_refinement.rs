@@ -28,7 +28,7 @@
 //! conforming (no T-vertices, no cracks): a triangle with one split edge is bisected to the
 //! opposite corner, one with two is cut into three (the remaining quadrilateral along its shorter
 //! diagonal), one with three into four. The new triangles' edges are tested in the next round
-//! (but the halves of an edge that missed by less than [`SMOOTH`] tolerances: a smooth light's
+//! (but the halves of an edge that missed by less than `SMOOTH` tolerances: a smooth light's
 //! interpolation error falls as the square of the edge, so they pass), up to [`Settings::depth`]
 //! rounds (edges 2^depth times shorter than the lit mesh's) and a
 //! budget of vertices. Adaptive subdivision against an error estimate of the display is the
