@@ -24,7 +24,7 @@ use crate::args::BenchArgs;
 use crate::bars::Bars;
 
 /// The configurations measured: a name and the `render` flags that make it.
-const CONFIGURATIONS: [(&str, &[&str]); 9] = [
+const CONFIGURATIONS: [(&str, &[&str]); 10] = [
     ("default (--mode final, 64 samples)", &[]),
     (
         "--mode final --samples 16",
@@ -39,12 +39,23 @@ const CONFIGURATIONS: [(&str, &[&str]); 9] = [
         &["--solver", "hierarchical", "--mode", "final"],
     ),
     (
-        "--mode radiosity (interpolated, 4 samples)",
+        "--mode radiosity (lit mesh refined for display, 64 samples)",
         &["--mode", "radiosity"],
     ),
     (
-        "--mode radiosity --samples 64",
-        &["--mode", "radiosity", "--samples", "64"],
+        "--mode radiosity --display averaged",
+        &["--mode", "radiosity", "--display", "averaged"],
+    ),
+    (
+        "--mode radiosity --display averaged --samples 4 (before 3 December)",
+        &[
+            "--mode",
+            "radiosity",
+            "--display",
+            "averaged",
+            "--samples",
+            "4",
+        ],
     ),
     (
         "--mode radiosity --elements 16000",
