@@ -100,9 +100,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         BLOCK,
         BLOCK
     )?;
+    let width = CONFIGURATIONS.iter().map(|c| c.0.len()).max().unwrap_or(0);
     writeln!(
         out,
-        "{:<36} {:>9} {:>9} {:>9}",
+        "{:<width$} {:>9} {:>9} {:>9}",
         "configuration", "error", "bias", "time s"
     )?;
     let bars = Bars::new(std::io::stderr().is_terminal());
@@ -135,7 +136,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             .with_context(|| format!("{name}: the picture does not match the reference's size"))?;
         writeln!(
             out,
-            "{name:<36} {:>8.2}% {:>+8.2}% {seconds:>9.1}",
+            "{name:<width$} {:>8.2}% {:>+8.2}% {seconds:>9.1}",
             100.0 * e.rms,
             100.0 * e.bias
         )?;
