@@ -613,7 +613,7 @@ fn the_evaluated_cornell_box_is_within_one_and_a_half_percent_of_a_path_tracer()
     // benches/image/reference/README.md: its own noise ≈ 0.4 % over 4 × 4 blocks), the RMS of
     // the blocks' relative luminance errors. Measured: evaluated 1.17 % (1.30 % before the far
     // part's border vertices were extrapolated, 2.18 % before the edge pixels and the pieces),
-    // interpolated 8.8 %. (At 256² the evaluated picture is 0.98 %: this size's blocks are 16
+    // interpolated 8.8 %. (At 256² the evaluated picture is 0.87 %: this size's blocks are 16
     // of those pixels.)
     let reference = radiosity::io::image_file::read_pfm(Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
