@@ -135,6 +135,19 @@ struct Piece {
     at: [[f32; 2]; 3],
 }
 
+impl Piece {
+    /// The barycentrics of the midpoint of edge k (from corner k to corner k + 1).
+    fn mid_at(&self, k: usize) -> [f32; 2] {
+        let (a, b) = (self.at[k], self.at[(k + 1) % 3]);
+        [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]
+    }
+}
+
+/// The key of the edge between vertices `a` and `b`, whichever way it runs.
+fn edge(a: u32, b: u32) -> (u32, u32) {
+    (a.min(b), a.max(b))
+}
+
 /// An edge's midpoint under test: where it is, and the piece (lit triangle, barycentrics) it
 /// is evaluated in.
 #[derive(Clone, Copy, Debug)]
@@ -142,7 +155,7 @@ struct Midpoint {
     point: Vec3,
     triangle: u32,
     at: [f32; 2],
-    /// The edge's ends and their mean value's luminance.
+    /// The edge's ends.
     ends: (u32, u32),
 }
 
@@ -225,20 +238,8 @@ impl Refiner<'_> {
         let budget = (settings.budget * positions.len() as f64) as usize;
         // Every edge decided so far: its midpoint vertex if split.
         let mut decided: HashMap<(u32, u32), Option<u32>> = HashMap::new();
-        let mut done: Vec<Piece> = Vec::new();
-        let mut open: Vec<Piece> = pieces.into_iter().filter(|p| diffuse(p.triangle)).collect();
-        done.extend(
-            averaged
-                .triangles
-                .iter()
-                .enumerate()
-                .filter(|&(t, _)| !diffuse(t as u32))
-                .map(|(t, tri)| Piece {
-                    v: *tri,
-                    triangle: t as u32,
-                    at: [[0.0; 2]; 3],
-                }),
-        );
+        let (mut open, mut done): (Vec<Piece>, Vec<Piece>) =
+            pieces.into_iter().partition(|p| diffuse(p.triangle));
         watch.progress.start("display", u64::from(settings.depth));
         for _ in 0..settings.depth {
             watch.progress.advance(1);
@@ -255,16 +256,15 @@ impl Refiner<'_> {
             for p in &open {
                 for k in 0..3 {
                     let (a, b) = (p.v[k], p.v[(k + 1) % 3]);
-                    let key = (a.min(b), a.max(b));
+                    let key = edge(a, b);
                     if decided.contains_key(&key) || index.contains_key(&key) {
                         continue;
                     }
                     index.insert(key, tests.len());
-                    let (pa, pb) = (p.at[k], p.at[(k + 1) % 3]);
                     tests.push(Midpoint {
                         point: 0.5 * (positions[a as usize] + positions[b as usize]),
                         triangle: p.triangle,
-                        at: [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])],
+                        at: p.mid_at(k),
                         ends: (a, b),
                     });
                 }
@@ -310,14 +310,11 @@ impl Refiner<'_> {
             // the edge: an edge that missed by less than SMOOTH tolerances has halves that
             // pass, and they are not tested again (only steps and kinks are).
             for (a, b) in smooth {
-                decided.insert((a.min(b), a.max(b)), None);
+                decided.insert(edge(a, b), None);
             }
             let mut next = Vec::new();
             for p in open {
-                let mids = [0, 1, 2].map(|k| {
-                    let (a, b) = (p.v[k], p.v[(k + 1) % 3]);
-                    decided[&(a.min(b), a.max(b))]
-                });
+                let mids = [0, 1, 2].map(|k| decided[&edge(p.v[k], p.v[(k + 1) % 3])]);
                 if mids.iter().all(Option::is_none) {
                     done.push(p);
                 } else {
@@ -352,13 +349,9 @@ impl Refiner<'_> {
 /// `p` cut along the midpoints `mids[k]` of its split edges (edge k runs from corner k to
 /// corner k + 1), counter-clockwise as `p` (see the module docs).
 fn subdivide(p: &Piece, mids: [Option<u32>; 3], positions: &[Vec3]) -> Vec<Piece> {
-    let mid_at = |k: usize| {
-        let (a, b) = (p.at[k], p.at[(k + 1) % 3]);
-        [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]
-    };
     // Corners and midpoints as (vertex, barycentrics).
     let corner = |k: usize| (p.v[k % 3], p.at[k % 3]);
-    let mid = |k: usize| mids[k % 3].map(|m| (m, mid_at(k % 3)));
+    let mid = |k: usize| mids[k % 3].map(|m| (m, p.mid_at(k % 3)));
     let make = |c: [(u32, [f32; 2]); 3]| Piece {
         v: c.map(|x| x.0),
         triangle: p.triangle,
@@ -415,33 +408,31 @@ mod tests {
     use crate::pipeline::{self, Display};
     use crate::progress::Silent;
 
-    /// A 0.4 × 0.4 light at y = 2 facing down, a black 0.6 × 0.6 blocker at y = 1, a floor of
-    /// ρ = 0.5 at y = 0. Nothing that the floor lights reflects, so its radiosity is the direct
-    /// light alone, in closed form (see [`exact`]).
-    const SHADOW: &str = r#"
-[materials.floor]
-reflectance = 0.5
-[materials.black]
-reflectance = 0.0
-[materials.light]
-reflectance = 0.0
-emission = 10.0
-[[objects]]
-name = "floor"
-material = "floor"
-shape = "polygon"
-vertices = [[-1, 0, 1], [1, 0, 1], [1, 0, -1], [-1, 0, -1]]
-[[objects]]
-name = "blocker"
-material = "black"
-shape = "polygon"
-vertices = [[-0.25, 1, 0.35], [0.35, 1, 0.35], [0.35, 1, -0.25], [-0.25, 1, -0.25]]
-[[objects]]
-name = "light"
-material = "light"
-shape = "polygon"
-vertices = [[-0.2, 2, -0.2], [0.2, 2, -0.2], [0.2, 2, 0.2], [-0.2, 2, 0.2]]
-"#;
+    /// The evaluation's SHADOW scene with a 0.4 × 0.4 light at y = 2 facing down and a black
+    /// 0.6 × 0.6 blocker at y = 1, off centre, over the floor of ρ = 0.5 at y = 0. Nothing that
+    /// the floor lights reflects, so its radiosity is the direct light alone, in closed form
+    /// (see [`exact`]).
+    fn shadow_scene() -> String {
+        let mut text = super::super::tests::SHADOW.to_owned();
+        for (from, to) in [
+            (
+                "name = \"blocker\"\nmaterial = \"floor\"",
+                "name = \"blocker\"\nmaterial = \"black\"",
+            ),
+            (
+                "[[-0.3, 1, 0.3], [0.3, 1, 0.3], [0.3, 1, -0.3], [-0.3, 1, -0.3]]",
+                "[[-0.25, 1, 0.35], [0.35, 1, 0.35], [0.35, 1, -0.25], [-0.25, 1, -0.25]]",
+            ),
+            (
+                "[[-0.1, 2, -0.1], [0.1, 2, -0.1], [0.1, 2, 0.1], [-0.1, 2, 0.1]]",
+                "[[-0.2, 2, -0.2], [0.2, 2, -0.2], [0.2, 2, 0.2], [-0.2, 2, 0.2]]",
+            ),
+        ] {
+            assert!(text.contains(from), "SHADOW has {from}");
+            text = text.replace(from, to);
+        }
+        text + "[materials.black]\nreflectance = 0.0\n"
+    }
 
     /// ρ E (F(x → L) − F(x → L ∩ P(x))) at floor point (x, 0, z): the light L less the blocker
     /// P(x) projected from the point onto the light's plane (both axis-aligned squares, so their
@@ -517,7 +508,7 @@ vertices = [[-0.2, 2, -0.2], [0.2, 2, -0.2], [0.2, 2, 0.2], [-0.2, 2, 0.2]]
     }
 
     fn solved(display: Display) -> pipeline::Solved {
-        let scene = Scene::from_toml_str(SHADOW, Path::new("shadow.toml")).expect("loads");
+        let scene = Scene::from_toml_str(&shadow_scene(), Path::new("shadow.toml")).expect("loads");
         let settings = pipeline::Settings {
             subdivision: crate::mesh::Subdivision::Elements(400),
             display,
