@@ -109,9 +109,10 @@ fn furnace_objects_agree_with_gauss_seidel() {
 
 #[test]
 fn cube_emitting_everywhere_is_uniform_on_average() {
-    // Every face emits E = π: B = E/(1 − ρ). Links gathered by a parent give its children the
-    // parent's mean factor, so single corner elements are off by up to ~20 % (they are tiny:
-    // the oracle bounds power, B·ΔF·A); the area-weighted mean is within 1 %.
+    // Every face emits E = π: B = E/(1 − ρ) on every element. With the push alone, links
+    // gathered by a parent gave its children the parent's mean factor, and a corner element
+    // was 17.5 % off (its row summed to 1.44); each element gathering with its own factors
+    // (`leaf_rows`) measured 0.016 % worst and the mean within 0.003 %.
     let rho = 0.5;
     let s = run(
         testing::closed_cube(rho, [1.0; 6]),
@@ -130,11 +131,10 @@ fn cube_emitting_everywhere_is_uniform_on_average() {
         .fold(0.0, f64::max);
     eprintln!("uniform cube: mean {mean}, worst element {worst}");
     assert!(
-        (mean - expected).abs() < 0.01 * expected,
+        (mean - expected).abs() < 1e-3 * expected,
         "{mean} vs {expected}"
     );
-    // Measured worst element: 17 % (a corner element whose receiving links sit on its parent).
-    assert!(worst < 0.2, "{worst}");
+    assert!(worst < 5e-3, "{worst}");
 }
 
 #[test]

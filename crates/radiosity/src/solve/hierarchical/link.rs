@@ -38,7 +38,7 @@ use super::cluster::Clusters;
 use crate::accel::{Bvh, Ray};
 use crate::formfactor::analytic::{point_to_polygon, solid_angle};
 use crate::formfactor::visibility::{jitter, quadrant, ShadowRays};
-use crate::formfactor::{facing, Receiver};
+use crate::formfactor::{facing, Receiver, FAR_FIELD};
 use crate::hash::mix;
 use crate::mesh::{Mesh, Node};
 
@@ -164,7 +164,6 @@ pub enum Estimate {
 struct Separation {
     cr: Vec3,
     cs: Vec3,
-    distance: f32,
     w: DVec3,
     alpha: f64,
     near: f64,
@@ -264,7 +263,6 @@ impl<'a> View<'a> {
         let Some(Separation {
             cr,
             cs,
-            distance,
             w,
             alpha,
             near,
@@ -290,21 +288,7 @@ impl<'a> View<'a> {
         let (lo_r, c_r, hi_r) = self.cosines(r, w, alpha);
         let (lo_s, c_s, hi_s) = self.cosines(s, -w, alpha);
         let kernel = self.area(s) / std::f64::consts::PI;
-        // Between a cluster and a face, the face's solid angle from the cluster's centre
-        // replaces A·cosθ/d² (exact over the face, where the point kernel is off by the
-        // face's size over the distance squared: 8 % for a 1 m light node 3.6 m away).
-        let face = |n: usize| self.mesh.nodes[n].face.corners_f64();
-        let f = if let Some(s) = s.as_node() {
-            let (polygon, n) = face(s);
-            c_r * solid_angle(cr.as_dvec3(), &polygon[..n]) / std::f64::consts::PI
-        } else if let Some(r_node) = r.as_node() {
-            let (polygon, n) = face(r_node);
-            c_s * self.area(s) * solid_angle(cs.as_dvec3(), &polygon[..n])
-                / (std::f64::consts::PI * self.area(r))
-        } else {
-            kernel * c_r * c_s / f64::from(distance).powi(2)
-        }
-        .min(1.0);
+        let f = self.cluster_kernel(r, s, (cr, cs), c_r, c_s);
         let most = self.largest_kernel(s, hi_r, hi_s, near).min(1.0);
         let least = kernel * lo_r * lo_s / (far * far);
         if most.is_nan() || most <= 0.0 {
@@ -323,6 +307,111 @@ impl<'a> View<'a> {
         // kernel's range: the factor itself is the least the link may be off by.
         let spread = (most - least).max(f).max(if v < 1.0 { most } else { 0.0 }) as f32;
         Estimate::Link(Link::new(r, s, factor, spread, Sight::Unknown))
+    }
+
+    /// The unoccluded factor of a link with a cluster at one end or both, c_r, c_s the two
+    /// ends' cosine factors toward each other and `centres` their spheres' centres: the point
+    /// kernel A_s c_r c_s / (π d²) between the centres, except that between a cluster and a
+    /// face the face's solid angle from the cluster's centre replaces A·cosθ/d² (exact over
+    /// the face, where the point kernel is off by the face's size over the distance squared:
+    /// 8 % for a 1 m light node 3.6 m away). At most 1.
+    fn cluster_kernel(
+        &self,
+        r: Handle,
+        s: Handle,
+        centres: (Vec3, Vec3),
+        c_r: f64,
+        c_s: f64,
+    ) -> f64 {
+        let (cr, cs) = centres;
+        let face = |n: usize| self.mesh.nodes[n].face.corners_f64();
+        let pi = std::f64::consts::PI;
+        if let Some(s) = s.as_node() {
+            let (polygon, n) = face(s);
+            c_r * solid_angle(cr.as_dvec3(), &polygon[..n]) / pi
+        } else if let Some(r_node) = r.as_node() {
+            let (polygon, n) = face(r_node);
+            c_s * self.area(s) * solid_angle(cs.as_dvec3(), &polygon[..n]) / (pi * self.area(r))
+        } else {
+            self.area(s) * c_r * c_s / (pi * f64::from(cr.distance(cs)).powi(2))
+        }
+        .min(1.0)
+    }
+
+    /// The unoccluded form factor F_rs that [`View::estimate`] finds for the pair before its
+    /// shadow rays (0 where it would make no link): Lambert's contour integral over the
+    /// receiver's quadrature points between two faces, [`View::cluster_kernel`] otherwise.
+    /// A link's visibility is its factor over this; [`super::leaf_rows`] asks it of the link's
+    /// source and each element below the link's receiver.
+    #[must_use]
+    pub fn unoccluded(&self, r: Handle, s: Handle) -> f64 {
+        self.factor(r, s, false)
+    }
+
+    /// [`View::unoccluded`] for an element gathering through a link above it: the same, but
+    /// with the receiver's centroid alone where the source is farther than
+    /// [`FAR_FIELD`] diameters of it (as the matrix solvers' form factors do; most of an
+    /// element's row lies there).
+    #[must_use]
+    pub fn element_factor(&self, e: Handle, s: Handle) -> f64 {
+        self.factor(e, s, true)
+    }
+
+    /// [`View::unoccluded`], with the far-field rule when `far` is set.
+    fn factor(&self, r: Handle, s: Handle, far: bool) -> f64 {
+        if let (Some(nr), Some(ns)) = (self.node(r), self.node(s)) {
+            let normal = |p: u32| self.mesh.patches[p as usize].normal;
+            if nr.patch == ns.patch
+                || !facing(&nr.face, normal(nr.patch), &ns.face, normal(ns.patch))
+            {
+                return 0.0;
+            }
+            let f = self.lambert(r, s, far).0;
+            return if f > 0.0 { f.min(1.0) } else { 0.0 };
+        }
+        let ((cr, _), (cs, _)) = (self.sphere(r), self.sphere(s));
+        let distance = cr.distance(cs);
+        if distance.is_nan() || distance <= 0.0 {
+            return 0.0;
+        }
+        let w = ((cs - cr) / distance).as_dvec3();
+        let c_r = self.cosines(r, w, 0.0).1;
+        let c_s = self.cosines(s, -w, 0.0).1;
+        let f = self.cluster_kernel(r, s, (cr, cs), c_r, c_s);
+        if f > 0.0 {
+            f
+        } else {
+            0.0
+        }
+    }
+
+    /// Lambert's contour integral from the receiver face `r` to the source face `s` at the
+    /// receiver's quadrature points (2 × 2, or 4 × 4 in the near field; with `far`, its
+    /// centroid alone beyond [`FAR_FIELD`] of its diameters): the weighted mean, and the least
+    /// and largest point value.
+    fn lambert(&self, r: Handle, s: Handle, far: bool) -> (f64, f64, f64) {
+        let (Some(nr), Some(ns)) = (self.node(r), self.node(s)) else {
+            return (0.0, 0.0, 0.0);
+        };
+        let ((cr, rr), (cs, rs)) = (self.sphere(r), self.sphere(s));
+        let (corners, sides) = ns.face.corners_f64();
+        let polygon = &corners[..sides];
+        if far && f64::from(cr.distance(cs) - rs) > FAR_FIELD * f64::from(nr.face.diameter()) {
+            let (centroid, normal) = (nr.face.centroid(), nr.face.normal());
+            let f = point_to_polygon(centroid.as_dvec3(), normal.as_dvec3(), polygon);
+            return (f, f, f);
+        }
+        let near = cr.distance(cs) < NEAR * (rr + rs);
+        let mut receiver = Receiver::default();
+        receiver.set(&nr.face, if near { NEAR_QUADRATURE } else { QUADRATURE });
+        let (mut f, mut lo, mut hi) = (0.0, f64::INFINITY, 0.0f64);
+        for &(x, w) in &receiver.points {
+            let point = point_to_polygon(x, receiver.normal, polygon);
+            f += w * point;
+            lo = lo.min(point);
+            hi = hi.max(point);
+        }
+        (f, lo, hi)
     }
 
     /// An upper bound on the unoccluded factor F_rs: A_s·max c_r·max c_s / (π·(d − ρ_r − ρ_s)²)
@@ -349,7 +438,6 @@ impl<'a> View<'a> {
         Some(Separation {
             cr,
             cs,
-            distance,
             w: ((cs - cr) / distance).as_dvec3(),
             alpha: f64::from((rr + rs) / distance).min(1.0).asin(),
             near: f64::from(distance - rr - rs),
@@ -403,20 +491,9 @@ impl<'a> View<'a> {
             return Estimate::Nothing;
         }
         let ((cr, rr), (cs, rs)) = (self.sphere(r), self.sphere(s));
-        let near = cr.distance(cs) < NEAR * (rr + rs);
         let overlap = cr.distance(cs) <= rr + rs
             && !touching(&nr.face, &ns.face, normal(nr.patch), normal(ns.patch));
-        let mut receiver = Receiver::default();
-        receiver.set(&nr.face, if near { NEAR_QUADRATURE } else { QUADRATURE });
-        let (corners, sides) = ns.face.corners_f64();
-        let polygon = &corners[..sides];
-        let (mut f, mut lo, mut hi) = (0.0, f64::INFINITY, 0.0f64);
-        for &(x, w) in &receiver.points {
-            let point = point_to_polygon(x, receiver.normal, polygon);
-            f += w * point;
-            lo = lo.min(point);
-            hi = hi.max(point);
-        }
+        let (f, lo, hi) = self.lambert(r, s, false);
         if f.is_nan() {
             return Estimate::Nothing;
         }

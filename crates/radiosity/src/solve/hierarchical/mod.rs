@@ -39,6 +39,7 @@
 
 pub mod cluster;
 pub mod handle;
+pub mod leaf_rows;
 pub mod link;
 pub mod projected;
 pub mod push_pull;
@@ -58,6 +59,7 @@ use crate::progress::Progress;
 use crate::stats::HierarchyStats;
 use crate::Rgb;
 use cluster::{Cluster, Clusters};
+use leaf_rows::{LeafRows, BYTES_PER_ENTRY};
 use link::{Handle, Link, View};
 use push_pull::State;
 use refine::Oracle;
@@ -277,7 +279,7 @@ pub fn run(
         last = Some(it);
     }
     let passes = STAGES + FINAL_PASSES + DISPLAY_PASSES;
-    progress.start("hierarchical", u64::from(passes));
+    progress.start("hierarchical", u64::from(passes) + 1);
     progress.advance(u64::from(done));
     'passes: for pass in done..passes {
         let stage = pass.min(STAGES - 1);
@@ -392,12 +394,25 @@ pub fn run(
             last = Some(it);
         }
     }
+    let rows = if out.interrupted {
+        None
+    } else {
+        let seconds = || clock + began.elapsed().as_secs_f64();
+        let problem = (mesh as &Mesh, bvh, &clusters, links.as_slice());
+        leaf_solve(
+            problem, &mut state, emitted, settings, control, &seconds, &mut out,
+        )
+    };
+    if let Some(rows) = &rows {
+        peak = peak.max(memory(mesh, &clusters, links.len()) + rows.bytes());
+    }
     if let Some(it) = last.filter(|_| out.interrupted) {
         session.after_iteration(true, || it);
     }
+    progress.advance(1);
     progress.finish();
     out.irradiance = state.element_irradiance(mesh);
-    let direct = state.emitted_irradiance(mesh, &clusters, &links);
+    let direct = state.emitted_irradiance(mesh, &clusters, &links, rows.as_ref());
     out.reflected_irradiance = out
         .irradiance
         .iter()
@@ -414,6 +429,58 @@ pub fn run(
     out.stats.peak_memory_bytes = peak;
     out.node_radiosity = state.node_b;
     Ok(out)
+}
+
+/// The last stage: the settled links solved again through every element's own row
+/// ([`leaf_rows`]), from the push-pull solution, to the same tolerance. Skipped (`None`, the
+/// push-pull solution stands) when the rows would take more than the matrix budget
+/// (`max_matrix_bytes`) or no iteration is left; a stop during it sets `out.interrupted`
+/// and leaves the last iterate. `emitted` scales the residual as in the passes, `seconds` is
+/// the run's clock for the history.
+fn leaf_solve(
+    (mesh, bvh, clusters, links): (&Mesh, &Bvh, &Clusters, &[Link]),
+    state: &mut State,
+    emitted: f64,
+    settings: &super::Settings,
+    control: &Control,
+    seconds: &dyn Fn() -> f64,
+    out: &mut Outcome,
+) -> Option<LeafRows> {
+    let began = Instant::now();
+    let entries = LeafRows::count(mesh, clusters, links);
+    if links.is_empty()
+        || entries * BYTES_PER_ENTRY > settings.max_matrix_bytes
+        || out.iterations >= settings.max_iterations
+    {
+        return None;
+    }
+    let view = View::new(mesh, clusters, bvh);
+    let Some(rows) = LeafRows::build(&view, links, &|| control.stopped()) else {
+        out.interrupted = true;
+        return None;
+    };
+    state.bury_rows(mesh, &rows.sums());
+    out.refine_seconds += began.elapsed().as_secs_f64();
+    let start = Instant::now();
+    while out.iterations < settings.max_iterations {
+        if control.stopped() {
+            out.interrupted = true;
+            break;
+        }
+        let change = state.iterate_rows(mesh, clusters, links, &rows);
+        out.iterations += 1;
+        out.residual = change / emitted;
+        out.history.push(Sample {
+            iteration: out.iterations,
+            seconds: seconds(),
+            residual: out.residual,
+        });
+        if out.residual < settings.tolerance {
+            break;
+        }
+    }
+    out.solve_seconds += start.elapsed().as_secs_f64();
+    Some(rows)
 }
 
 /// The largest channel of B of every node and cluster, for the oracle.

@@ -41,6 +41,7 @@ use rayon::prelude::*;
 use glam::DVec3;
 
 use super::cluster::{axis_weights, Clusters};
+use super::leaf_rows::LeafRows;
 use super::link::{End, Handle, Link};
 use crate::accel::Bvh;
 use crate::formfactor::exposure::open_fraction;
@@ -139,11 +140,19 @@ impl State {
     /// stays below 1 however the probes and the shadow rays disagree; 0 where that row is empty
     /// and the leaf does not emit (it sees nothing at all: the floor under a block).
     pub fn bury(&mut self, mesh: &Mesh, clusters: &Clusters, links: &[Link]) {
+        let rows = self.link_rows(mesh, clusters, links);
+        self.bury_rows(mesh, &rows);
+    }
+
+    /// Every element's row sum Σ F through the push of `links` (a radiosity of one gathered
+    /// and pushed), in the order of [`Mesh::elements`].
+    #[must_use]
+    pub fn link_rows(&self, mesh: &Mesh, clusters: &Clusters, links: &[Link]) -> Vec<f64> {
         let n = mesh.nodes.len();
         let mut unit = State {
             node_b: Vec::new(),
             node_h: vec![Rgb::ZERO; n],
-            node_area: std::mem::take(&mut self.node_area),
+            node_area: self.node_area.clone(),
             node_probed: Vec::new(),
             node_open: Vec::new(),
             node_shine: vec![Rgb::ONE; n],
@@ -158,10 +167,17 @@ impl State {
         };
         unit.gather(mesh, clusters, links);
         unit.push(mesh, clusters);
-        self.node_area = unit.node_area;
-        for &e in &mesh.elements {
+        mesh.elements
+            .iter()
+            .map(|&e| unit.node_h[e as usize].x)
+            .collect()
+    }
+
+    /// [`State::bury`] with every element's row sum Σ F given (`rows`, in the order of
+    /// [`Mesh::elements`]).
+    pub fn bury_rows(&mut self, mesh: &Mesh, rows: &[f64]) {
+        for (&e, &row) in mesh.elements.iter().zip(rows) {
             let e = e as usize;
-            let row = unit.node_h[e].x;
             let emits = mesh.patches[mesh.nodes[e].patch as usize].emission != Rgb::ZERO;
             let u = if !emits && row == 0.0 {
                 0.0
@@ -249,14 +265,24 @@ impl State {
     /// leaf's radiosity set to its E, pulled, gathered and pushed): the direct part of
     /// [`State::element_irradiance`], which the evaluated picture replaces by its own exact
     /// direct light (`Solution::reflected_irradiance`).
+    /// With `rows`, the gather goes through the elements' own rows.
     #[must_use]
-    pub fn emitted_irradiance(&self, mesh: &Mesh, clusters: &Clusters, links: &[Link]) -> Vec<Rgb> {
+    pub fn emitted_irradiance(
+        &self,
+        mesh: &Mesh,
+        clusters: &Clusters,
+        links: &[Link],
+        rows: Option<&LeafRows>,
+    ) -> Vec<Rgb> {
         let mut lit = self.clone();
         for &n in &mesh.elements {
             let patch = &mesh.patches[mesh.nodes[n as usize].patch as usize];
             lit.node_b[n as usize] = patch.emission;
         }
         lit.pull(mesh, clusters);
+        if let Some(rows) = rows {
+            return lit.gather_rows(mesh, clusters, links, rows);
+        }
         lit.gather(mesh, clusters, links);
         lit.push(mesh, clusters);
         lit.element_irradiance(mesh)
@@ -285,22 +311,6 @@ impl State {
                 start = i;
             }
         }
-        let center = |h: Handle| -> DVec3 {
-            match h.end() {
-                End::Cluster(c) => clusters.nodes[c].center.as_dvec3(),
-                End::Node(n) => mesh.nodes[n].face.centroid().as_dvec3(),
-            }
-        };
-        // Σ_k w_k X_k / Σ_k w_k D_k, or None where nothing of the cluster faces ω.
-        let toward = |c: usize, w: &[f64; 6]| {
-            let den: f64 = w
-                .iter()
-                .zip(clusters.nodes[c].facing)
-                .map(|(a, b)| a * b)
-                .sum();
-            (den > 0.0).then_some(den)
-        };
-        let (node_shine, cluster_n) = (&self.node_shine, &self.cluster_n);
         let sums: Vec<(Rgb, Directional)> = groups
             .par_iter()
             .map(|g| {
@@ -308,28 +318,14 @@ impl State {
                 let mut scalar = Rgb::ZERO;
                 let mut q = [Rgb::ZERO; 6];
                 for l in &links[g.clone()] {
-                    let involves_cluster = l.source.is_cluster() || r.is_cluster();
-                    let out = if involves_cluster {
-                        (center(r) - center(l.source)).normalize_or_zero()
-                    } else {
-                        DVec3::ZERO
-                    };
-                    let b = match l.source.end() {
-                        End::Cluster(s) => {
-                            let w = axis_weights(out);
-                            toward(s, &w).map_or(Rgb::ZERO, |den| {
-                                w.iter().zip(cluster_n[s]).map(|(w, n)| n * *w).sum::<Rgb>() / den
-                            })
-                        }
-                        End::Node(s) => node_shine[s],
-                    };
-                    let h = f64::from(l.factor) * b;
+                    let out = direction(mesh, clusters, l);
+                    let h = f64::from(l.factor) * self.shone(clusters, l, out);
                     let End::Cluster(c) = r.end() else {
                         scalar += h;
                         continue;
                     };
                     let w = axis_weights(-out);
-                    match toward(c, &w) {
+                    match toward(clusters, c, &w) {
                         Some(den) => {
                             let power = h * clusters.nodes[c].area;
                             for (qk, wk) in q.iter_mut().zip(w) {
@@ -351,6 +347,64 @@ impl State {
                 End::Node(n) => self.node_h[n] = h,
             }
         }
+    }
+
+    /// What the source of link `l` shines along it, `out` the unit direction from the source
+    /// toward the receiver ([`direction`]): a node its open part's radiosity, a cluster the
+    /// mean B of the faces that face `out` (module docs), nothing where none does.
+    fn shone(&self, clusters: &Clusters, l: &Link, out: DVec3) -> Rgb {
+        match l.source.end() {
+            End::Cluster(s) => {
+                let w = axis_weights(out);
+                toward(clusters, s, &w).map_or(Rgb::ZERO, |den| {
+                    w.iter()
+                        .zip(self.cluster_n[s])
+                        .map(|(w, n)| n * *w)
+                        .sum::<Rgb>()
+                        / den
+                })
+            }
+            End::Node(s) => self.node_shine[s],
+        }
+    }
+
+    /// One gather through every element's own row ([`LeafRows`]), and the pull: the
+    /// iteration of [`State::iterate`] with the elements' own factors in place of the push.
+    /// Returns Σ_e A_e ‖ΔB_e‖₁ over the elements.
+    pub fn iterate_rows(
+        &mut self,
+        mesh: &Mesh,
+        clusters: &Clusters,
+        links: &[Link],
+        rows: &LeafRows,
+    ) -> f64 {
+        let h = self.gather_rows(mesh, clusters, links, rows);
+        let mut change = 0.0;
+        for (&n, h) in mesh.elements.iter().zip(h) {
+            let n = n as usize;
+            let patch = &mesh.patches[mesh.nodes[n].patch as usize];
+            let b = patch.emission + patch.reflectance * h;
+            change += self.node_area[n] * (b - self.node_b[n]).abs().element_sum();
+            self.node_b[n] = b;
+            self.node_h[n] = h;
+        }
+        self.pull(mesh, clusters);
+        change
+    }
+
+    /// Every element's irradiance through its row, from the current radiosity.
+    fn gather_rows(
+        &self,
+        mesh: &Mesh,
+        clusters: &Clusters,
+        links: &[Link],
+        rows: &LeafRows,
+    ) -> Vec<Rgb> {
+        let shone: Vec<Rgb> = links
+            .par_iter()
+            .map(|l| self.shone(clusters, l, direction(mesh, clusters, l)))
+            .collect();
+        rows.gather(&shone)
     }
 
     /// B of every interior node and cluster from its children, bottom up; and what every
@@ -425,6 +479,32 @@ impl State {
             self.cluster_n[c] = n;
         }
     }
+}
+
+/// The unit direction from the centre of link `l`'s source to its receiver's, where a cluster
+/// is at either end (zero between two faces, which need no direction).
+fn direction(mesh: &Mesh, clusters: &Clusters, l: &Link) -> DVec3 {
+    if !l.source.is_cluster() && !l.receiver.is_cluster() {
+        return DVec3::ZERO;
+    }
+    let center = |h: Handle| -> DVec3 {
+        match h.end() {
+            End::Cluster(c) => clusters.nodes[c].center.as_dvec3(),
+            End::Node(n) => mesh.nodes[n].face.centroid().as_dvec3(),
+        }
+    };
+    (center(l.receiver) - center(l.source)).normalize_or_zero()
+}
+
+/// Σ_k w_k D_k of cluster `c` for the axis weights `w`, or `None` where nothing of it faces
+/// that way.
+fn toward(clusters: &Clusters, c: usize, w: &[f64; 6]) -> Option<f64> {
+    let den: f64 = w
+        .iter()
+        .zip(clusters.nodes[c].facing)
+        .map(|(a, b)| a * b)
+        .sum();
+    (den > 0.0).then_some(den)
 }
 
 #[cfg(test)]
