@@ -393,7 +393,7 @@ impl<'a> View<'a> {
         let (Some(nr), Some(ns)) = (self.node(r), self.node(s)) else {
             return (0.0, 0.0, 0.0);
         };
-        let ((cr, rr), (cs, rs)) = (self.sphere(r), self.sphere(s));
+        let ((cr, _), (cs, rs)) = (self.sphere(r), self.sphere(s));
         let (corners, sides) = ns.face.corners_f64();
         let polygon = &corners[..sides];
         if far && f64::from(cr.distance(cs) - rs) > FAR_FIELD * f64::from(nr.face.diameter()) {
@@ -401,9 +401,13 @@ impl<'a> View<'a> {
             let f = point_to_polygon(centroid.as_dvec3(), normal.as_dvec3(), polygon);
             return (f, f, f);
         }
-        let near = cr.distance(cs) < NEAR * (rr + rs);
+        let grid = if self.near(r, s) {
+            NEAR_QUADRATURE
+        } else {
+            QUADRATURE
+        };
         let mut receiver = Receiver::default();
-        receiver.set(&nr.face, if near { NEAR_QUADRATURE } else { QUADRATURE });
+        receiver.set(&nr.face, grid);
         let (mut f, mut lo, mut hi) = (0.0, f64::INFINITY, 0.0f64);
         for &(x, w) in &receiver.points {
             let point = point_to_polygon(x, receiver.normal, polygon);
@@ -412,6 +416,14 @@ impl<'a> View<'a> {
             hi = hi.max(point);
         }
         (f, lo, hi)
+    }
+
+    /// Whether two handles are in each other's near field: their bounding spheres' centres
+    /// closer than [`NEAR`] times the sum of their radii.
+    #[must_use]
+    fn near(&self, r: Handle, s: Handle) -> bool {
+        let ((cr, rr), (cs, rs)) = (self.sphere(r), self.sphere(s));
+        cr.distance(cs) < NEAR * (rr + rs)
     }
 
     /// An upper bound on the unoccluded factor F_rs: A_s·max c_r·max c_s / (π·(d − ρ_r − ρ_s)²)

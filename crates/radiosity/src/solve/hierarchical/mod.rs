@@ -59,7 +59,7 @@ use crate::progress::Progress;
 use crate::stats::HierarchyStats;
 use crate::Rgb;
 use cluster::{Cluster, Clusters};
-use leaf_rows::{LeafRows, BYTES_PER_ENTRY};
+use leaf_rows::LeafRows;
 use link::{Handle, Link, View};
 use push_pull::State;
 use refine::Oracle;
@@ -432,9 +432,9 @@ pub fn run(
 }
 
 /// The last stage: the settled links solved again through every element's own row
-/// ([`leaf_rows`]), from the push-pull solution, to the same tolerance. Skipped (`None`, the
-/// push-pull solution stands) when the rows would take more than the matrix budget
-/// (`max_matrix_bytes`) or no iteration is left; a stop during it sets `out.interrupted`
+/// ([`leaf_rows`]), from the push-pull solution, to the same tolerance; as many links go
+/// through the rows as the matrix budget (`max_matrix_bytes`) holds, the rest are pushed.
+/// Skipped (`None`) when no iteration is left; a stop during it sets `out.interrupted`
 /// and leaves the last iterate. `emitted` scales the residual as in the passes, `seconds` is
 /// the run's clock for the history.
 fn leaf_solve(
@@ -447,19 +447,18 @@ fn leaf_solve(
     out: &mut Outcome,
 ) -> Option<LeafRows> {
     let began = Instant::now();
-    let entries = LeafRows::count(mesh, clusters, links);
-    if links.is_empty()
-        || entries * BYTES_PER_ENTRY > settings.max_matrix_bytes
-        || out.iterations >= settings.max_iterations
-    {
+    if links.is_empty() || out.iterations >= settings.max_iterations {
         return None;
     }
     let view = View::new(mesh, clusters, bvh);
-    let Some(rows) = LeafRows::build(&view, links, &|| control.stopped()) else {
+    let rowed = LeafRows::rowed(mesh, clusters, links, settings.max_matrix_bytes);
+    let Some(rows) = LeafRows::build(&view, links, &rowed, &|| control.stopped()) else {
         out.interrupted = true;
         return None;
     };
-    state.bury_rows(mesh, &rows.sums());
+    let pushed = state.link_rows(mesh, clusters, links, Some(rows.links()));
+    let sums: Vec<f64> = pushed.iter().zip(rows.sums()).map(|(a, b)| a + b).collect();
+    state.bury_rows(mesh, &sums);
     out.refine_seconds += began.elapsed().as_secs_f64();
     let start = Instant::now();
     while out.iterations < settings.max_iterations {

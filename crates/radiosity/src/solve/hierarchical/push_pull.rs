@@ -140,14 +140,20 @@ impl State {
     /// stays below 1 however the probes and the shadow rays disagree; 0 where that row is empty
     /// and the leaf does not emit (it sees nothing at all: the floor under a block).
     pub fn bury(&mut self, mesh: &Mesh, clusters: &Clusters, links: &[Link]) {
-        let rows = self.link_rows(mesh, clusters, links);
+        let rows = self.link_rows(mesh, clusters, links, None);
         self.bury_rows(mesh, &rows);
     }
 
     /// Every element's row sum Σ F through the push of `links` (a radiosity of one gathered
-    /// and pushed), in the order of [`Mesh::elements`].
+    /// and pushed), in the order of [`Mesh::elements`]; links marked in `skip` left out.
     #[must_use]
-    pub fn link_rows(&self, mesh: &Mesh, clusters: &Clusters, links: &[Link]) -> Vec<f64> {
+    pub fn link_rows(
+        &self,
+        mesh: &Mesh,
+        clusters: &Clusters,
+        links: &[Link],
+        skip: Option<&[bool]>,
+    ) -> Vec<f64> {
         let n = mesh.nodes.len();
         let mut unit = State {
             node_b: Vec::new(),
@@ -165,7 +171,7 @@ impl State {
             cluster_h: vec![Rgb::ZERO; clusters.nodes.len()],
             cluster_q: vec![[Rgb::ZERO; 6]; clusters.nodes.len()],
         };
-        unit.gather(mesh, clusters, links);
+        unit.gather(mesh, clusters, links, skip);
         unit.push(mesh, clusters);
         mesh.elements
             .iter()
@@ -201,7 +207,7 @@ impl State {
 
     /// One gather, push and pull. Returns Σ_e A_e ‖ΔB_e‖₁ over the elements.
     pub fn iterate(&mut self, mesh: &Mesh, clusters: &Clusters, links: &[Link]) -> f64 {
-        self.gather(mesh, clusters, links);
+        self.gather(mesh, clusters, links, None);
         self.push(mesh, clusters);
         // New element radiosities, in parallel (each from its own node only).
         let new: Vec<Rgb> = mesh
@@ -283,7 +289,7 @@ impl State {
         if let Some(rows) = rows {
             return lit.gather_rows(mesh, clusters, links, rows);
         }
-        lit.gather(mesh, clusters, links);
+        lit.gather(mesh, clusters, links, None);
         lit.push(mesh, clusters);
         lit.element_irradiance(mesh)
     }
@@ -299,7 +305,8 @@ impl State {
 
     /// H of every handle from its own links (links sorted by receiver), with the direction of
     /// each cluster link (module docs).
-    fn gather(&mut self, mesh: &Mesh, clusters: &Clusters, links: &[Link]) {
+    /// Links marked in `skip` (the rows' links, [`LeafRows::links`]) are left out.
+    fn gather(&mut self, mesh: &Mesh, clusters: &Clusters, links: &[Link], skip: Option<&[bool]>) {
         self.node_h.fill(Rgb::ZERO);
         self.cluster_h.fill(Rgb::ZERO);
         self.cluster_q.fill([Rgb::ZERO; 6]);
@@ -317,7 +324,10 @@ impl State {
                 let r = links[g.start].receiver;
                 let mut scalar = Rgb::ZERO;
                 let mut q = [Rgb::ZERO; 6];
-                for l in &links[g.clone()] {
+                for (i, l) in links[g.clone()].iter().enumerate() {
+                    if skip.is_some_and(|skip| skip[g.start + i]) {
+                        continue;
+                    }
                     let out = direction(mesh, clusters, l);
                     let h = f64::from(l.factor) * self.shone(clusters, l, out);
                     let End::Cluster(c) = r.end() else {
@@ -368,9 +378,10 @@ impl State {
         }
     }
 
-    /// One gather through every element's own row ([`LeafRows`]), and the pull: the
-    /// iteration of [`State::iterate`] with the elements' own factors in place of the push.
-    /// Returns Σ_e A_e ‖ΔB_e‖₁ over the elements.
+    /// One gather through every element's own row ([`LeafRows`]) beside the push of the
+    /// other links, and the pull: the iteration of [`State::iterate`] with the elements' own
+    /// factors where they differ from their receivers'. Returns Σ_e A_e ‖ΔB_e‖₁ over the
+    /// elements.
     pub fn iterate_rows(
         &mut self,
         mesh: &Mesh,
@@ -392,19 +403,33 @@ impl State {
         change
     }
 
-    /// Every element's irradiance through its row, from the current radiosity.
+    /// Every element's irradiance from the current radiosity: the links outside the rows
+    /// gathered and pushed, plus the rows.
     fn gather_rows(
-        &self,
+        &mut self,
         mesh: &Mesh,
         clusters: &Clusters,
         links: &[Link],
         rows: &LeafRows,
     ) -> Vec<Rgb> {
+        self.gather(mesh, clusters, links, Some(rows.links()));
+        self.push(mesh, clusters);
         let shone: Vec<Rgb> = links
             .par_iter()
-            .map(|l| self.shone(clusters, l, direction(mesh, clusters, l)))
+            .zip(rows.links())
+            .map(|(l, &rowed)| {
+                if rowed {
+                    self.shone(clusters, l, direction(mesh, clusters, l))
+                } else {
+                    Rgb::ZERO
+                }
+            })
             .collect();
         rows.gather(&shone)
+            .into_iter()
+            .zip(&mesh.elements)
+            .map(|(h, &e)| h + self.node_h[e as usize])
+            .collect()
     }
 
     /// B of every interior node and cluster from its children, bottom up; and what every
