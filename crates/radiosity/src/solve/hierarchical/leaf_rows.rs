@@ -43,6 +43,9 @@ pub const BYTES_PER_ENTRY: u64 = 8;
 /// No parent.
 const NONE: u32 = u32::MAX;
 
+/// Elements whose rows are built together, between two looks at the stop flag.
+const CHUNK: usize = 1024;
+
 /// Every element's row: the links it gathers through, each with the element's own factor.
 #[derive(Clone, Debug, Default)]
 pub struct LeafRows {
@@ -223,45 +226,45 @@ impl LeafRows {
                 }
             })
             .collect();
-        let rows: Vec<Option<Vec<(u32, f32)>>> = mesh
-            .elements
-            .par_iter()
-            .map(|&n| {
-                if stop() {
-                    return None;
-                }
-                let own = Handle::node(n);
-                let mut row = Vec::new();
-                tree.chain(n as usize, |members| {
-                    for &i in members {
-                        let l = &links[i as usize];
-                        let factor = if l.receiver == own {
-                            l.factor
-                        } else if visibility[i as usize] > 0.0 {
-                            (view.element_factor(own, l.source) * visibility[i as usize]) as f32
-                        } else {
-                            0.0
-                        };
-                        if factor > 0.0 {
-                            row.push((i, factor));
-                        }
+        let row = |n: u32| {
+            let own = Handle::node(n);
+            let mut row = Vec::new();
+            tree.chain(n as usize, |members| {
+                for &i in members {
+                    let l = &links[i as usize];
+                    let factor = if l.receiver == own {
+                        l.factor
+                    } else if visibility[i as usize] > 0.0 {
+                        (view.element_factor(own, l.source) * visibility[i as usize]) as f32
+                    } else {
+                        0.0
+                    };
+                    if factor > 0.0 {
+                        row.push((i, factor));
                     }
-                });
-                Some(row)
-            })
-            .collect();
+                }
+            });
+            row
+        };
         let mut out = LeafRows {
-            start: Vec::with_capacity(rows.len() + 1),
+            start: Vec::with_capacity(mesh.elements.len() + 1),
             rowed: rowed.to_vec(),
             ..LeafRows::default()
         };
         out.start.push(0);
-        for row in rows {
-            for (link, factor) in row? {
-                out.link.push(link);
-                out.factor.push(factor);
+        // A chunk of elements at a time, so that the rows are held once, not twice.
+        for chunk in mesh.elements.chunks(CHUNK) {
+            if stop() {
+                return None;
             }
-            out.start.push(out.link.len());
+            let rows: Vec<Vec<(u32, f32)>> = chunk.par_iter().map(|&n| row(n)).collect();
+            for row in rows {
+                for (link, factor) in row {
+                    out.link.push(link);
+                    out.factor.push(factor);
+                }
+                out.start.push(out.link.len());
+            }
         }
         Some(out)
     }
