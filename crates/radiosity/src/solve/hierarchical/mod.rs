@@ -26,6 +26,9 @@
 //!    are split on the receiver side, once ([`DISPLAY_PASSES`]), and the system is solved
 //!    again. The lit mesh ([`crate::mesh::display`]) anchors the T-vertices this leaves, so it
 //!    stays crack-free.
+//! 5. **Leaf rows** ([`leaf_rows`]): on the settled links, every element gathers each link
+//!    above it with its own factor instead of its ancestor's mean, and the system is solved
+//!    once more through those rows.
 //!
 //! Both directions of a pair are linked and refined independently (each gathers for its own
 //! receiver); links never join a face with itself, two faces of one patch, or two faces that do not
