@@ -194,21 +194,6 @@ impl LeafRows {
         below.iter().map(|&n| n <= limit).collect()
     }
 
-    /// How many entries the rows of `links` (sorted by receiver) would hold at most: the
-    /// number of (element, row link above it) pairs, counted without estimating anything.
-    #[must_use]
-    pub fn count(mesh: &Mesh, clusters: &Clusters, links: &[Link], rowed: &[bool]) -> u64 {
-        let tree = Tree::new(mesh, clusters, links, rowed);
-        mesh.elements
-            .par_iter()
-            .map(|&n| {
-                let mut count = 0u64;
-                tree.chain(n as usize, |links| count += links.len() as u64);
-                count
-            })
-            .sum()
-    }
-
     /// Every element's row over `links` (sorted by receiver), or `None` if `stop` said so on
     /// the way. Each row is its element's alone, so the rows do not depend on the thread count.
     #[must_use]
@@ -405,10 +390,11 @@ mod tests {
         let view = View::new(&mesh, &clusters, &bvh);
         let every = vec![true; links.len()];
         assert!(LeafRows::build(&view, &links, &every, &|| true).is_none());
-        let count = LeafRows::count(&mesh, &clusters, &links, &every);
-        assert_eq!(count, mesh.elements.len() as u64 * 5);
-        // Within the budget every link goes through the rows; with room for one face's
-        // elements and one more link, only the element's own link does.
+        // Every element lies under five links, one from each other face.
+        let count = mesh.elements.len() as u64 * 5;
+        // Within the budget every link goes through the rows; a byte short, none does (the
+        // thirty links hold as many elements each); with room for two entries, an element's
+        // own link goes and its face's link does not.
         let all = count * BYTES_PER_ENTRY;
         assert!(LeafRows::rowed(&mesh, &clusters, &links, all)
             .iter()
