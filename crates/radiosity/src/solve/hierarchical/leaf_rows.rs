@@ -39,7 +39,7 @@
 use rayon::prelude::*;
 
 use super::cluster::Clusters;
-use super::link::{End, Handle, Link, View};
+use super::link::{receiver_groups, End, Handle, Link, View};
 use crate::mesh::Mesh;
 use crate::Rgb;
 
@@ -86,17 +86,13 @@ impl Tree {
         let mut node_links = vec![(0, 0); mesh.nodes.len()];
         let mut cluster_links = vec![(0, 0); clusters.nodes.len()];
         let mut members = Vec::new();
-        let mut start = 0;
-        for i in 1..=links.len() {
-            if i == links.len() || links[i].receiver != links[start].receiver {
-                let lo = members.len() as u32;
-                members.extend((start as u32..i as u32).filter(|&k| rowed[k as usize]));
-                let range = (lo, members.len() as u32);
-                match links[start].receiver.end() {
-                    End::Node(n) => node_links[n] = range,
-                    End::Cluster(c) => cluster_links[c] = range,
-                }
-                start = i;
+        for g in receiver_groups(links) {
+            let lo = members.len() as u32;
+            members.extend((g.start as u32..g.end as u32).filter(|&k| rowed[k as usize]));
+            let range = (lo, members.len() as u32);
+            match links[g.start].receiver.end() {
+                End::Node(n) => node_links[n] = range,
+                End::Cluster(c) => cluster_links[c] = range,
             }
         }
         // Until set below: a cluster past the tree's end, where a chain stops.
@@ -200,16 +196,21 @@ impl LeafRows {
     pub fn build(
         view: &View,
         links: &[Link],
-        rowed: &[bool],
+        rowed: Vec<bool>,
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Option<Self> {
         let mesh = view.mesh;
-        let tree = Tree::new(mesh, view.clusters, links, rowed);
-        // V_qs of every link: its factor over its unoccluded factor.
+        let tree = Tree::new(mesh, view.clusters, links, &rowed);
+        // V_qs of every link through the rows: its factor over its unoccluded factor.
         let visibility: Vec<f64> = links
             .par_iter()
-            .map(|l| {
-                let f = view.unoccluded(l.receiver, l.source);
+            .zip(&rowed)
+            .map(|(l, &rowed)| {
+                let f = if rowed {
+                    view.unoccluded(l.receiver, l.source)
+                } else {
+                    0.0
+                };
                 if f > 0.0 {
                     f64::from(l.factor) / f
                 } else {
@@ -239,7 +240,7 @@ impl LeafRows {
         };
         let mut out = LeafRows {
             start: Vec::with_capacity(mesh.elements.len() + 1),
-            rowed: rowed.to_vec(),
+            rowed,
             ..LeafRows::default()
         };
         out.start.push(0);
@@ -338,7 +339,7 @@ mod tests {
         let (mesh, clusters, bvh, links) = cube();
         let view = View::new(&mesh, &clusters, &bvh);
         let rowed = vec![true; links.len()];
-        let rows = LeafRows::build(&view, &links, &rowed, &|| false).unwrap();
+        let rows = LeafRows::build(&view, &links, rowed, &|| false).unwrap();
         assert_eq!(rows.start.len(), mesh.elements.len() + 1);
         // Additivity: the area-weighted factors of a link's elements are the link's own
         // A_q F_qs, to the receiver quadratures' difference (measured 0.94 % at most: the root
@@ -389,7 +390,7 @@ mod tests {
         let (mesh, clusters, bvh, links) = cube();
         let view = View::new(&mesh, &clusters, &bvh);
         let every = vec![true; links.len()];
-        assert!(LeafRows::build(&view, &links, &every, &|| true).is_none());
+        assert!(LeafRows::build(&view, &links, every, &|| true).is_none());
         // Every element lies under five links, one from each other face.
         let count = mesh.elements.len() as u64 * 5;
         // Within the budget every link goes through the rows; a byte short, none does (the

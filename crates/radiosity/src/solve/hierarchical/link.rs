@@ -147,6 +147,20 @@ impl Link {
     }
 }
 
+/// The runs of `links` (sorted by receiver) that share a receiver, in order.
+#[must_use]
+pub fn receiver_groups(links: &[Link]) -> Vec<std::ops::Range<usize>> {
+    let mut groups = Vec::new();
+    let mut start = 0;
+    for i in 1..=links.len() {
+        if i == links.len() || links[i].receiver != links[start].receiver {
+            groups.push(start..i);
+            start = i;
+        }
+    }
+    groups
+}
+
 /// What [`View::estimate`] says about a pair.
 #[derive(Clone, Copy, Debug)]
 pub enum Estimate {

@@ -119,6 +119,19 @@ pub struct Outcome {
     pub interrupted: bool,
 }
 
+impl Outcome {
+    /// One more gather iteration, which left `residual`, at `seconds` since the start.
+    fn record(&mut self, residual: f64, seconds: f64) {
+        self.iterations += 1;
+        self.residual = residual;
+        self.history.push(Sample {
+            iteration: self.iterations,
+            seconds,
+            residual,
+        });
+    }
+}
+
 /// Hierarchical radiosity as a [`Solver`] of a given mesh: it refines a copy (node ids stay,
 /// so each given element reads its node's mean, and its irradiance is the area-weighted mean
 /// of the refined elements below it), and hands the refined mesh back with its own solution
@@ -358,14 +371,7 @@ pub fn run(
                 break 'passes;
             }
             let change = state.iterate(mesh, &clusters, &links);
-            out.iterations += 1;
-            out.residual = change / emitted;
-            let seconds = clock + began.elapsed().as_secs_f64();
-            out.history.push(Sample {
-                iteration: out.iterations,
-                seconds,
-                residual: out.residual,
-            });
+            out.record(change / emitted, clock + began.elapsed().as_secs_f64());
             if out.residual < settings.tolerance {
                 break;
             }
@@ -455,7 +461,7 @@ fn leaf_solve(
     }
     let view = View::new(mesh, clusters, bvh);
     let rowed = LeafRows::rowed(mesh, clusters, links, settings.max_matrix_bytes);
-    let Some(rows) = LeafRows::build(&view, links, &rowed, &|| control.stopped()) else {
+    let Some(rows) = LeafRows::build(&view, links, rowed, &|| control.stopped()) else {
         out.interrupted = true;
         return None;
     };
@@ -470,13 +476,7 @@ fn leaf_solve(
             break;
         }
         let change = state.iterate_rows(mesh, clusters, links, &rows);
-        out.iterations += 1;
-        out.residual = change / emitted;
-        out.history.push(Sample {
-            iteration: out.iterations,
-            seconds: seconds(),
-            residual: out.residual,
-        });
+        out.record(change / emitted, seconds());
         if out.residual < settings.tolerance {
             break;
         }

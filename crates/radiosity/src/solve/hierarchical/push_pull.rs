@@ -42,7 +42,7 @@ use glam::DVec3;
 
 use super::cluster::{axis_weights, Clusters};
 use super::leaf_rows::LeafRows;
-use super::link::{End, Handle, Link};
+use super::link::{receiver_groups, End, Handle, Link};
 use crate::accel::Bvh;
 use crate::formfactor::exposure::open_fraction;
 use crate::mesh::Mesh;
@@ -310,14 +310,7 @@ impl State {
         self.node_h.fill(Rgb::ZERO);
         self.cluster_h.fill(Rgb::ZERO);
         self.cluster_q.fill([Rgb::ZERO; 6]);
-        let mut groups = Vec::new();
-        let mut start = 0;
-        for i in 1..=links.len() {
-            if i == links.len() || links[i].receiver != links[start].receiver {
-                groups.push(start..i);
-                start = i;
-            }
-        }
+        let groups = receiver_groups(links);
         let sums: Vec<(Rgb, Directional)> = groups
             .par_iter()
             .map(|g| {
