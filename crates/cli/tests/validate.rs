@@ -92,32 +92,41 @@ fn reference_suite_subset_is_within_one_percent() {
     );
 }
 
-/// Hierarchical radiosity on the partitioned room (`benches/suite/partitions`): two rooms lit
-/// only through a door and a gap. Links from surfaces that do not emit look weak in the first
-/// pass (B = E); dropping the hidden ones then lost every link through the door, and the far
-/// room came out 27 % dark at any ε. Measured after the fix: worst object +2.8 % (the room
-/// behind the gap); asserted within 4 % of the Mitsuba 3 reference.
+/// Hierarchical radiosity on the cheap part of the suite and the partitioned room
+/// (`benches/suite/partitions`: two rooms lit only through a door and a gap). Links from
+/// surfaces that do not emit look weak in the first pass (B = E); dropping the hidden ones once
+/// lost every link through the door, and the far room came out 27 % dark at any ε. Measured
+/// with the elements' own rows, visibility and source pieces (docs/validation.md, thirteenth
+/// round): partitions +0.67 %, closed-mesh −0.23 %, blender-gltf +0.31 %,
+/// emitter-near-wall-away −0.35 %; each within the suite's 1 %.
 #[test]
-fn hierarchical_lights_rooms_through_a_door() {
+fn hierarchical_lights_rooms_through_a_door_and_the_cheap_suite() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut args = vec!["validate", "--format", "json", "--suite", "--suite-dir"];
+    args.push(root.to_str().expect("a UTF-8 path"));
+    for scene in [
+        "partitions",
+        "closed-mesh",
+        "blender-gltf",
+        "emitter-near-wall-away",
+    ] {
+        args.extend(["--suite-scene", scene]);
+    }
+    args.extend(["--suite-solver", "hierarchical"]);
     let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
-        .args(["validate", "--format", "json", "--suite", "--suite-dir"])
-        .arg(&root)
-        .args([
-            "--suite-scene",
-            "partitions",
-            "--suite-solver",
-            "hierarchical",
-        ])
+        .args(&args)
         .output()
         .expect("the binary runs");
     let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
-    let row = rows
+    let suite: Vec<_> = rows
         .as_array()
         .expect("rows")
         .iter()
-        .find(|r| r["case"].as_str().unwrap().starts_with("suite "))
-        .expect("a suite row");
-    let error = row["error"].as_f64().expect("an error");
-    assert!(error < 0.04, "{row}");
+        .filter(|r| r["case"].as_str().unwrap().starts_with("suite "))
+        .collect();
+    assert_eq!(suite.len(), 4, "{rows}");
+    for row in &suite {
+        let error = row["error"].as_f64().expect("an error");
+        assert!(error < 0.01, "{row}");
+    }
 }

@@ -43,9 +43,10 @@ fn power(s: &Solved) -> Rgb {
 #[test]
 fn cube_power_is_emitted_over_one_minus_rho() {
     // One emitting face of radiance 1 (E = π, area 1): Σ A B = π/(1 − ρ) when every receiver's
-    // links cover the cube once. Face-to-face links use Lambert's factor at 2 × 2 points, whose
-    // row sums are within ~1 % at coarse elements; at ε = 1e-4 the links go down to elements
-    // where that is ~0.2 %, and the solve's residual 1e-8 adds nothing: 1 % total.
+    // links cover the cube once. The elements gather with their own factors (leaf rows) and
+    // every source shines what its pieces shine toward each receiver (source pieces), so rows
+    // and columns both sum to one: measured 0.008 % (ρ 0.3) and 0.041 % (ρ 0.7); asserted
+    // within the 0.1 % that issue 13 asks of every closed scene.
     for rho in [0.3, 0.7] {
         let s = run(
             testing::closed_cube(rho, [0.0, 0.0, 1.0, 0.0, 0.0, 0.0]),
@@ -54,7 +55,7 @@ fn cube_power_is_emitted_over_one_minus_rho() {
         let expected = std::f64::consts::PI / (1.0 - rho);
         let p = power(&s).x;
         assert!(
-            (p - expected).abs() < 0.01 * expected,
+            (p - expected).abs() < 1e-3 * expected,
             "ρ {rho}: {p} vs {expected}"
         );
         assert!(s.solution.hierarchy.unwrap().links > 0);

@@ -15,12 +15,17 @@
 //! its ancestors, quadtree nodes and clusters:
 //!
 //! ```text
-//! B_e = E_e + ρ_e Σ_{links (q, s), q ⊇ e} F_es V_qs B_s ,      V_qs = (F_qs V_qs) / F_qs
+//! B_e = E_e + ρ_e Σ_{links (q, s), q ⊇ e} F_es V_es B̂_s
 //! ```
 //!
 //! F_es is estimated as the link's own factor is ([`View::element_factor`]: Lambert's contour
 //! integral over the element's quadrature points for a face source, its centroid alone in the
-//! far field, the cluster kernel for a cluster), and the link's visibility V_qs is kept. This is the push of Hanrahan, Salzman &
+//! far field, the cluster kernel for a cluster). V_es is the link's visibility
+//! V_qs = (F_qs V_qs) / F_qs where the link's shadow rays all arrived (or none did), and the
+//! element's own four rays ([`View::quick_visibility`]) where they found it partly hidden: an
+//! element in the umbra of a link that straddles a shadow must not get the link's mean. B̂_s
+//! is what the source shines toward q, weighted over its pieces ([`super::source_pieces`]).
+//! This is the push of Hanrahan, Salzman &
 //! Aupperle (1991) with the children's own factors in place of the parent's (the "final
 //! gather" of Lischinski, Tampieri & Greenberg 1993 and Smits, Arvo & Greenberg 1994, applied
 //! to the elements instead of the pixels, and iterated): it costs one factor per element and
@@ -30,7 +35,8 @@
 //! from a source gets nothing from it. Where the rows of every link would not fit the matrix
 //! budget, only the links nearest the elements go through them ([`LeafRows::rowed`]).
 //!
-//! Measured (`docs/hierarchical.md`): the white furnace exact to 0.016 % on every element; the
+//! Measured (`docs/hierarchical.md`), before the elements' own visibility and the source
+//! pieces: the white furnace exact to 0.016 % on every element; the
 //! evaluated pictures against Mitsuba 3 8.28 → 2.80 % (Cornell box) and 4.36 → 2.81 %
 //! (furnished room); the suite's worst objects move both ways (partitions 2.86 → 0.93 %, the
 //! bare OBJ room 4.51 → 5.17 %): at the default ε most of their error is the oracle's, not
@@ -40,6 +46,7 @@ use rayon::prelude::*;
 
 use super::cluster::Clusters;
 use super::link::{receiver_groups, End, Handle, Link, View};
+use super::source_pieces::{SourcePieces, BYTES_PER_PIECE, PIECES};
 use crate::mesh::Mesh;
 use crate::Rgb;
 
@@ -48,6 +55,11 @@ pub const BYTES_PER_ENTRY: u64 = 8;
 
 /// No parent.
 const NONE: u32 = u32::MAX;
+
+/// Below this visibility (and above 0) a link counts as partly hidden: its elements cast
+/// their own rays. (A wholly visible link's factor over its unoccluded factor is 1 to the
+/// rounding of an `f32`.)
+const PARTLY: f64 = 1.0 - 1e-4;
 
 /// Elements whose rows are built together, between two looks at the stop flag.
 const CHUNK: usize = 1024;
@@ -63,6 +75,8 @@ pub struct LeafRows {
     factor: Vec<f32>,
     /// Whether each link goes through the rows ([`LeafRows::rowed`]); the others are pushed.
     rowed: Vec<bool>,
+    /// The pieces of the rows' links' sources.
+    pieces: SourcePieces,
 }
 
 /// Where each handle's row links are, and each handle's parent.
@@ -158,7 +172,8 @@ impl LeafRows {
     /// per element below its receiver), up to the largest such size that fits — the links
     /// nearest the elements, where the factor varies most over a receiver. The rest are
     /// pushed as before. (Every link through the rows cost the furnished room 13 M entries at
-    /// ε = 10⁻⁴, and outgrew a gigabyte at 3·10⁻⁶.)
+    /// ε = 10⁻⁴, and outgrew a gigabyte at 3·10⁻⁶.) A link's cost also counts its source's
+    /// pieces ([`PIECES`] at most).
     #[must_use]
     pub fn rowed(mesh: &Mesh, clusters: &Clusters, links: &[Link], budget: u64) -> Vec<bool> {
         let below_face = |f: u32| mesh.nodes[f as usize].elements.len() as u64;
@@ -179,7 +194,7 @@ impl LeafRows {
         order.sort_unstable();
         let (mut limit, mut bytes) = (0, 0u64);
         for (k, &n) in order.iter().enumerate() {
-            bytes += n * BYTES_PER_ENTRY;
+            bytes += n * BYTES_PER_ENTRY + PIECES as u64 * BYTES_PER_PIECE;
             if bytes > budget {
                 break;
             }
@@ -201,7 +216,8 @@ impl LeafRows {
     ) -> Option<Self> {
         let mesh = view.mesh;
         let tree = Tree::new(mesh, view.clusters, links, &rowed);
-        // V_qs of every link through the rows: its factor over its unoccluded factor.
+        // V_qs of every link through the rows: its factor over its unoccluded factor; and
+        // whether its shadow rays found it partly hidden.
         let visibility: Vec<f64> = links
             .par_iter()
             .zip(&rowed)
@@ -218,21 +234,30 @@ impl LeafRows {
                 }
             })
             .collect();
+        let hidden: Vec<bool> = visibility.iter().map(|&v| v > 0.0 && v < PARTLY).collect();
+        let pieces = SourcePieces::build(view, links, &rowed, &hidden, stop)?;
         let row = |n: u32| {
             let own = Handle::node(n);
             let mut row = Vec::new();
             tree.chain(n as usize, |members| {
                 for &i in members {
                     let l = &links[i as usize];
+                    let i = i as usize;
                     let factor = if l.receiver == own {
                         l.factor
-                    } else if visibility[i as usize] > 0.0 {
-                        (view.element_factor(own, l.source) * visibility[i as usize]) as f32
+                    } else if visibility[i] > 0.0 {
+                        let f = view.element_factor(own, l.source);
+                        let v = if hidden[i] && f > 0.0 {
+                            view.quick_visibility(own, l.source)
+                        } else {
+                            visibility[i]
+                        };
+                        (f * v) as f32
                     } else {
                         0.0
                     };
                     if factor > 0.0 {
-                        row.push((i, factor));
+                        row.push((i as u32, factor));
                     }
                 }
             });
@@ -241,6 +266,7 @@ impl LeafRows {
         let mut out = LeafRows {
             start: Vec::with_capacity(mesh.elements.len() + 1),
             rowed,
+            pieces,
             ..LeafRows::default()
         };
         out.start.push(0);
@@ -267,6 +293,13 @@ impl LeafRows {
         self.link.len() as u64 * BYTES_PER_ENTRY
             + self.start.len() as u64 * 8
             + self.rowed.len() as u64
+            + self.pieces.bytes()
+    }
+
+    /// The pieces of the rows' links' sources.
+    #[must_use]
+    pub fn pieces(&self) -> &SourcePieces {
+        &self.pieces
     }
 
     /// Whether each link goes through the rows (the others are gathered and pushed).
@@ -393,10 +426,12 @@ mod tests {
         assert!(LeafRows::build(&view, &links, every, &|| true).is_none());
         // Every element lies under five links, one from each other face.
         let count = mesh.elements.len() as u64 * 5;
-        // Within the budget every link goes through the rows; a byte short, none does (the
-        // thirty links hold as many elements each); with room for two entries, an element's
-        // own link goes and its face's link does not.
-        let all = count * BYTES_PER_ENTRY;
+        // Within the budget (the entries and every link's pieces) every link goes through the
+        // rows; a byte short, none does (the thirty links hold as many elements each); with
+        // room for one link's pieces and two entries, an element's own link goes and its
+        // face's link does not.
+        let pieces = links.len() as u64 * PIECES as u64 * BYTES_PER_PIECE;
+        let all = count * BYTES_PER_ENTRY + pieces;
         assert!(LeafRows::rowed(&mesh, &clusters, &links, all)
             .iter()
             .all(|&r| r));
@@ -413,7 +448,8 @@ mod tests {
         };
         let mut mixed = vec![own, *wall];
         mixed.sort_unstable_by_key(|l| (l.receiver, l.source));
-        let rowed = LeafRows::rowed(&mesh, &clusters, &mixed, 16);
+        let budget = PIECES as u64 * BYTES_PER_PIECE + 2 * BYTES_PER_ENTRY;
+        let rowed = LeafRows::rowed(&mesh, &clusters, &mixed, budget);
         assert_eq!(
             rowed,
             mixed.iter().map(|l| l.receiver == leaf).collect::<Vec<_>>()

@@ -371,6 +371,20 @@ impl<'a> View<'a> {
         self.factor(e, s, true)
     }
 
+    /// The visibility of source `s` from receiver `r` by four rays: the quadrant pairs of
+    /// [`View::estimate`]'s shadow rays between two faces (the gathering solvers' count per
+    /// pair, [`crate::formfactor::raycast`]), the pilot rays between facing member faces where
+    /// a cluster is at either end. For an element under a partly hidden link, and for the
+    /// pieces of such a link's source ([`super::leaf_rows`], [`super::source_pieces`]).
+    #[must_use]
+    pub fn quick_visibility(&self, r: Handle, s: Handle) -> f64 {
+        if r.is_cluster() || s.is_cluster() {
+            self.cluster_visibility(r, s)
+        } else {
+            self.face_visibility(r, s, Sight::Unknown, false)
+        }
+    }
+
     /// [`View::unoccluded`], with the far-field rule when `far` is set.
     fn factor(&self, r: Handle, s: Handle, far: bool) -> f64 {
         if let (Some(nr), Some(ns)) = (self.node(r), self.node(s)) {
@@ -530,7 +544,7 @@ impl<'a> View<'a> {
             let bound = self.bound(r, s) as f32;
             return Estimate::Link(Link::new(r, s, 0.0, bound, Sight::Unknown));
         }
-        let v = self.face_visibility(r, s, sight);
+        let v = self.face_visibility(r, s, sight, true);
         // Visibility known only from shadow rays: the unoccluded factor bounds what the link
         // may be wrong by, so the oracle refines it as long as that is too much to risk.
         let factor = f.min(1.0) * v;
@@ -567,8 +581,9 @@ impl<'a> View<'a> {
     /// Letting a unanimous 4-ray pilot decide for a fresh pair (as the matrix solvers did per
     /// element pair until 2 December) biased the Cornell box 3–8 % low here, where one link stands for a whole
     /// subtree of pairs; trusting the parent's 20 rays alone, without the pilot, biased it
-    /// 1 % high at ε = 10⁻⁵ (occluders the parent's rays missed).
-    fn face_visibility(&self, r: Handle, s: Handle, sight: Sight) -> f64 {
+    /// 1 % high at ε = 10⁻⁵ (occluders the parent's rays missed). Without `stratified`, the
+    /// four quadrant rays alone.
+    fn face_visibility(&self, r: Handle, s: Handle, sight: Sight, stratified: bool) -> f64 {
         let (Some(nr), Some(ns)) = (self.node(r), self.node(s)) else {
             return 0.0;
         };
@@ -593,6 +608,11 @@ impl<'a> View<'a> {
         }
         if sight == Sight::Clear && arrived == PILOT {
             return 1.0;
+        }
+        if !stratified {
+            return rays
+                .fraction()
+                .unwrap_or(f64::from(arrived) / f64::from(PILOT));
         }
         let offset = (pair % u64::from(RAYS)) as u32;
         let cell =

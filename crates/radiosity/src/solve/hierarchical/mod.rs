@@ -48,6 +48,7 @@ pub mod projected;
 pub mod push_pull;
 pub mod refine;
 mod snapshot;
+pub mod source_pieces;
 
 use std::time::Instant;
 

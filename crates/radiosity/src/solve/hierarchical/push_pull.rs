@@ -321,8 +321,8 @@ impl State {
                     if skip.is_some_and(|skip| skip[g.start + i]) {
                         continue;
                     }
-                    let out = direction(mesh, clusters, l);
-                    let h = f64::from(l.factor) * self.shone(clusters, l, out);
+                    let out = direction(mesh, clusters, r, l.source);
+                    let h = f64::from(l.factor) * self.shone(clusters, l.source, out);
                     let End::Cluster(c) = r.end() else {
                         scalar += h;
                         continue;
@@ -352,11 +352,11 @@ impl State {
         }
     }
 
-    /// What the source of link `l` shines along it, `out` the unit direction from the source
+    /// What `source` shines toward a receiver, `out` the unit direction from the source
     /// toward the receiver ([`direction`]): a node its open part's radiosity, a cluster the
     /// mean B of the faces that face `out` (module docs), nothing where none does.
-    fn shone(&self, clusters: &Clusters, l: &Link, out: DVec3) -> Rgb {
-        match l.source.end() {
+    fn shone(&self, clusters: &Clusters, source: Handle, out: DVec3) -> Rgb {
+        match source.end() {
             End::Cluster(s) => {
                 let w = axis_weights(out);
                 toward(clusters, s, &w).map_or(Rgb::ZERO, |den| {
@@ -410,11 +410,18 @@ impl State {
         let shone: Vec<Rgb> = links
             .par_iter()
             .zip(rows.links())
-            .map(|(l, &rowed)| {
-                if rowed {
-                    self.shone(clusters, l, direction(mesh, clusters, l))
-                } else {
-                    Rgb::ZERO
+            .enumerate()
+            .map(|(i, (l, &rowed))| {
+                if !rowed {
+                    return Rgb::ZERO;
+                }
+                match rows.pieces().of(i) {
+                    [] => self.shone(
+                        clusters,
+                        l.source,
+                        direction(mesh, clusters, l.receiver, l.source),
+                    ),
+                    pieces => self.shone_by_pieces(mesh, clusters, l.receiver, pieces),
                 }
             })
             .collect();
@@ -423,6 +430,36 @@ impl State {
             .zip(&mesh.elements)
             .map(|(h, &e)| h + self.node_h[e as usize])
             .collect()
+    }
+
+    /// What a source split into `pieces` (each with its weight w_c) shines toward `receiver`:
+    /// Σ w_c P_c / Σ w_c O_c ([`super::source_pieces`]); nothing if no piece is seen.
+    fn shone_by_pieces(
+        &self,
+        mesh: &Mesh,
+        clusters: &Clusters,
+        receiver: Handle,
+        pieces: &[(Handle, f32)],
+    ) -> Rgb {
+        let (mut power, mut open) = (Rgb::ZERO, 0.0);
+        for &(c, w) in pieces {
+            let w = f64::from(w);
+            let (p, o) = match c.end() {
+                End::Node(n) => (self.node_open[n] * self.node_shine[n], self.node_open[n]),
+                End::Cluster(k) => {
+                    let a = clusters.nodes[k].area;
+                    let out = direction(mesh, clusters, receiver, c);
+                    (a * self.shone(clusters, c, out), a)
+                }
+            };
+            power += w * p;
+            open += w * o;
+        }
+        if open > 0.0 {
+            power / open
+        } else {
+            Rgb::ZERO
+        }
     }
 
     /// B of every interior node and cluster from its children, bottom up; and what every
@@ -499,10 +536,10 @@ impl State {
     }
 }
 
-/// The unit direction from the centre of link `l`'s source to its receiver's, where a cluster
-/// is at either end (zero between two faces, which need no direction).
-fn direction(mesh: &Mesh, clusters: &Clusters, l: &Link) -> DVec3 {
-    if !l.source.is_cluster() && !l.receiver.is_cluster() {
+/// The unit direction from the centre of `source` to `receiver`'s, where a cluster is at
+/// either end (zero between two faces, which need no direction).
+fn direction(mesh: &Mesh, clusters: &Clusters, receiver: Handle, source: Handle) -> DVec3 {
+    if !source.is_cluster() && !receiver.is_cluster() {
         return DVec3::ZERO;
     }
     let center = |h: Handle| -> DVec3 {
@@ -511,7 +548,7 @@ fn direction(mesh: &Mesh, clusters: &Clusters, l: &Link) -> DVec3 {
             End::Node(n) => mesh.nodes[n].face.centroid().as_dvec3(),
         }
     };
-    (center(l.receiver) - center(l.source)).normalize_or_zero()
+    (center(receiver) - center(source)).normalize_or_zero()
 }
 
 /// Σ_k w_k D_k of cluster `c` for the axis weights `w`, or `None` where nothing of it faces
