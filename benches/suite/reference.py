@@ -84,6 +84,9 @@ import numpy as np  # noqa: E402
 ROOT = pathlib.Path(__file__).resolve().parent.parent.parent
 SUITE = ROOT / "scenes" / "suite"
 OUT = pathlib.Path(__file__).resolve().parent / "reference"
+# Rooms closed on every side, whose surfaces must absorb all the power they emit (the window of
+# `emitter-near-wall-facing` has an unmodelled back that absorbs too, so it is left out).
+CLOSED = {"partitions", "emitter-near-wall-away", "furnished-room"}
 SCENES = {
     "cornell-faces": "cornell-faces/scene.toml",
     "obj-box": "obj-box/scene.obj",
@@ -534,6 +537,7 @@ def run_scene(name, args):
     worst = max(max(o["rel_se"]) for o in out)
     result = {
         "scene": f"scenes/suite/{SCENES[name]}",
+        "closed": name in CLOSED,
         "renderer": f"Mitsuba {mi.__version__}",
         "variant": "llvm_ad_rgb",
         "integrator": "path (next-event estimation + MIS, Russian roulette)",

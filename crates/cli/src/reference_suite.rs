@@ -7,7 +7,10 @@
 //! `benches/suite/reference.py`) holds every object's mean radiosity B per channel with its
 //! standard error (≤ 0.2 %). For every scene and every asked (solver, form-factor method) pair
 //! the whole engine runs at its default settings, and one row reports the object and channel
-//! furthest from the reference; it passes within [`TOLERANCE`]. The files are read from the
+//! furthest from the reference; it passes within [`TOLERANCE`]. A scene whose reference says it
+//! is `closed` (a room closed on every side) gets a second row: the power its surfaces absorb
+//! over the power they emit, worst channel, which must be one within [`ENERGY_TOLERANCE`]
+//! (issue 13). The files are read from the
 //! repository at run time (`--suite-dir`, default the current directory), not compiled in:
 //! the scenes are a few megabytes.
 
@@ -24,6 +27,9 @@ use crate::validate::Row;
 
 /// Largest accepted relative error of any object's radiosity in any channel.
 pub const TOLERANCE: f64 = 0.01;
+
+/// Largest accepted departure of a closed scene's absorbed over emitted power from one.
+pub const ENERGY_TOLERANCE: f64 = 1e-3;
 
 /// Which solver a suite run uses: the automatic choice or one method.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -69,6 +75,14 @@ struct Reference {
     radiosity: [f64; 3],
 }
 
+/// One reference file: its scene (relative to the repository), whether the scene is closed,
+/// and its objects.
+struct ReferenceFile {
+    scene: PathBuf,
+    closed: bool,
+    objects: Vec<Reference>,
+}
+
 /// The rows of the suite under `root` (the repository), for the scenes named in `only` (all when
 /// empty), every solver of `solvers` and form-factor method of `form_factors`.
 ///
@@ -109,13 +123,13 @@ pub fn rows(
     let cases = files.len() * solvers.len() * form_factors.len();
     progress.start("suite", cases as u64);
     for file in &files {
-        let (scene_path, references) = read_reference(file)?;
-        let scene_path = root.join(scene_path);
+        let reference = read_reference(file)?;
+        let scene_path = root.join(&reference.scene);
         let label = file.file_stem().and_then(|s| s.to_str()).unwrap_or("?");
         let scene = Scene::load(&scene_path).map_err(|e| anyhow::anyhow!("{}", e))?;
         for &solver in solvers {
             for &ff in form_factors {
-                out.push(worst_object(label, scene.clone(), solver, ff, &references)?);
+                out.extend(scene_rows(label, scene.clone(), solver, ff, &reference)?);
                 progress.advance(1);
             }
         }
@@ -124,8 +138,8 @@ pub fn rows(
     Ok(out)
 }
 
-/// The scene file (relative to the repository) and the objects of one reference JSON.
-fn read_reference(file: &Path) -> anyhow::Result<(PathBuf, Vec<Reference>)> {
+/// One reference JSON.
+fn read_reference(file: &Path) -> anyhow::Result<ReferenceFile> {
     let bad = |what: &str| anyhow::anyhow!("{}: {what}", file.display());
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(file)?).map_err(|e| bad(&e.to_string()))?;
@@ -148,18 +162,23 @@ fn read_reference(file: &Path) -> anyhow::Result<(PathBuf, Vec<Reference>)> {
             })
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
-    Ok((PathBuf::from(scene), objects))
+    Ok(ReferenceFile {
+        scene: PathBuf::from(scene),
+        closed: json["closed"].as_bool().unwrap_or(false),
+        objects,
+    })
 }
 
-/// Solves `scene` at the default settings with `solver` and `ff`, and the row of the object and
-/// channel furthest from its reference.
-fn worst_object(
+/// Solves `scene` at the default settings with `solver` and `ff`: the row of the object and
+/// channel furthest from its reference, and for a closed scene the row of its power balance.
+fn scene_rows(
     label: &str,
     scene: Scene,
     solver: SuiteSolver,
     ff: formfactor::Method,
-    references: &[Reference],
-) -> anyhow::Result<Row> {
+    reference: &ReferenceFile,
+) -> anyhow::Result<Vec<Row>> {
+    let references = &reference.objects;
     let settings = Settings {
         subdivision: Subdivision::default(),
         discontinuity: false,
@@ -191,19 +210,36 @@ fn worst_object(
             }
         }
     }
-    let (_, reference, channel, ours) =
+    let (_, worst, channel, ours) =
         worst.ok_or_else(|| anyhow::anyhow!("{label}: the reference has no objects"))?;
-    Ok(Row {
-        case: format!(
-            "suite {label} ({}, {}, {seconds:.1} s): {} ({})",
-            solver.name(),
-            ff.name(),
-            reference.name,
-            ["r", "g", "b"][channel]
-        ),
+    let run = format!(
+        "suite {label} ({}, {}, {seconds:.1} s)",
+        solver.name(),
+        ff.name()
+    );
+    let mut rows = vec![Row {
+        case: format!("{run}: {} ({})", worst.name, ["r", "g", "b"][channel]),
         quantity: "radiosity B of the worst object and channel (W/m²)",
-        reference: reference.radiosity[channel],
+        reference: worst.radiosity[channel],
         ours,
         tolerance: TOLERANCE,
-    })
+    }];
+    if reference.closed {
+        let balance = |c: usize| stats.energy.absorbed[c] / stats.energy.emitted[c];
+        let c = (0..3)
+            .max_by(|&a, &b| {
+                (balance(a) - 1.0)
+                    .abs()
+                    .total_cmp(&(balance(b) - 1.0).abs())
+            })
+            .unwrap_or(0);
+        rows.push(Row {
+            case: format!("{run}: closed, power balance ({})", ["r", "g", "b"][c]),
+            quantity: "absorbed / emitted power, worst channel",
+            reference: 1.0,
+            ours: balance(c),
+            tolerance: ENERGY_TOLERANCE,
+        });
+    }
+    Ok(rows)
 }
