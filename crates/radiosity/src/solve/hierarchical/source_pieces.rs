@@ -16,9 +16,9 @@
 //! sources however many of them there are; the source-variation test
 //! ([`super::refine::Oracle`]) bounds each link's part, not the sum.
 //!
-//! So every link through the rows ([`super::leaf_rows`]) splits its source breadth-first down the
-//! hierarchy (a node into its four children, a cluster into its two or its faces) into at most
-//! [`PIECES`] pieces c, and shines the weighted mean
+//! So every link through the rows ([`super::leaf_rows`]) splits its source down the hierarchy (a
+//! node into its four children, a cluster into its two or its faces), the piece the receiver
+//! sees most first, into at most [`PIECES`] pieces c, and shines the weighted mean
 //!
 //! ```text
 //! B̂_s = Σ_c w_c P_c / Σ_c w_c O_c ,      w_c = F_qc V_qc / A_c ,
@@ -36,9 +36,11 @@
 //! ([`Clusters`] and quadtree levels), which bounds the cost by [`PIECES`] factors per link.
 //!
 //! Measured on `benches/suite` (docs/validation.md, thirteenth round), with the elements' own
-//! visibility in the rows: the bare OBJ room's ceiling −5.2 → −1.1 %, the furnished room's
-//! ball +6.0 → +1.8 %, cornell-faces' short block +4.0 → +1.1 %; the closed rooms' energy
-//! 0.3–1.4 % short → within 0.1 % (partitions, emitter beside a wall) and 0.5 % (furnished room).
+//! visibility in the rows: the bare OBJ room's ceiling −5.2 → −0.8 %, the furnished room's
+//! ball +6.0 → +1.8 % split evenly, +0.3 % split where the receiver looks (the dark spot of
+//! the table right under it), cornell-faces' short block +4.0 → +1.0 %; the closed
+//! rooms' energy 0.3–1.4 % short → within 0.1 % (partitions, emitter beside a wall) and 0.3 %
+//! (furnished room).
 
 use rayon::prelude::*;
 
@@ -116,36 +118,41 @@ impl SourcePieces {
     }
 }
 
-/// Link `l`'s source split breadth-first while the pieces stay at most [`PIECES`], each with
-/// its weight; empty if it cannot be split.
+/// Link `l`'s source split into at most [`PIECES`] pieces, each with its weight; empty if it
+/// cannot be split. The piece the receiver sees most (the largest unoccluded factor F_qc) is
+/// split first, so the pieces are finest where the receiver looks: the part of a table top
+/// right under a ball standing on it, not its far corners.
 fn pieces(view: &View, l: &Link, hidden: bool) -> Vec<(Handle, f32)> {
-    let mut frontier = vec![l.source];
-    let (mut next, mut kids) = (Vec::new(), Vec::new());
-    loop {
-        next.clear();
-        let mut split = false;
-        for &h in &frontier {
-            kids.clear();
-            view.children(h, &mut kids);
-            if kids.is_empty() {
-                next.push(h);
-            } else {
-                split = true;
-                next.extend_from_slice(&kids);
-            }
-        }
-        if !split || next.len() > PIECES {
-            break;
-        }
-        std::mem::swap(&mut frontier, &mut next);
-    }
-    if frontier.len() < 2 {
+    let mut kids = Vec::new();
+    view.children(l.source, &mut kids);
+    if kids.is_empty() {
         return Vec::new();
     }
-    frontier
-        .into_iter()
-        .map(|c| {
-            let mut f = view.unoccluded(l.receiver, c);
+    let factor = |h: Handle| view.unoccluded(l.receiver, h);
+    let mut list: Vec<(f64, Handle)> = vec![(factor(l.source), l.source)];
+    loop {
+        let mut best: Option<(f64, usize)> = None;
+        for (i, &(f, h)) in list.iter().enumerate() {
+            if f <= 0.0 || best.is_some_and(|(b, _)| f <= b) {
+                continue;
+            }
+            kids.clear();
+            view.children(h, &mut kids);
+            if !kids.is_empty() && list.len() - 1 + kids.len() <= PIECES {
+                best = Some((f, i));
+            }
+        }
+        let Some((_, i)) = best else { break };
+        let (_, h) = list.remove(i);
+        kids.clear();
+        view.children(h, &mut kids);
+        list.extend(kids.iter().map(|&k| (factor(k), k)));
+    }
+    if list.len() < 2 {
+        return Vec::new();
+    }
+    list.into_iter()
+        .map(|(mut f, c)| {
             if hidden && f > 0.0 {
                 f *= view.quick_visibility(l.receiver, c);
             }
