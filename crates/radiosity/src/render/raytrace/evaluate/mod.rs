@@ -248,9 +248,8 @@ fn far_radiosity(
             let mut parts = [(Rgb::ZERO, Rgb::ZERO, 0.0); PIECES];
             let (mut lit, mut near, mut share, mut area) = (Rgb::ZERO, Rgb::ZERO, 0.0, 0.0);
             let mut by_pieces = false;
-            for k in 0..PIECES {
-                let (n, s, p) =
-                    near_field.irradiance(mesh, at.centroids[k], patch.normal, node.patch);
+            let seen = near_field.irradiance_at(mesh, at.centroids, patch.normal, node.patch);
+            for (k, &(n, s, p)) in seen.iter().enumerate() {
                 parts[k] = (direct[e][k], patch.reflectance * n, s);
                 let a = at.areas[k];
                 lit += parts[k].0 * a;

@@ -116,7 +116,7 @@ impl NearField {
         let shapes = mesh
             .nodes
             .iter()
-            .map(|node| Shape::of(&node.face))
+            .map(|node| Shape::of(&node.face, mesh.patches[node.patch as usize].normal))
             .collect();
         let (mut boxes, mut nodes) = (Vec::new(), Vec::new());
         for (p, roots) in mesh.roots.iter().enumerate() {
@@ -156,86 +156,102 @@ impl NearField {
         normal: Vec3,
         patch: u32,
     ) -> (Rgb, f64, bool) {
+        let [at] = self.irradiance_at(mesh, [point], normal, patch);
+        at
+    }
+
+    /// [`NearField::irradiance`] at several points of one patch (an element's pieces), found
+    /// by one query: each point sums the nodes within its reach in the order of the (fixed)
+    /// traversal, as a query of its own would, so the sums are the same to the bit.
+    pub(super) fn irradiance_at<const K: usize>(
+        &self,
+        mesh: &Mesh,
+        points: [Vec3; K],
+        normal: Vec3,
+        patch: u32,
+    ) -> [(Rgb, f64, bool); K] {
+        let mut out = [(Rgb::ZERO, 0.0, false); K];
         let reach = self.reach[patch as usize];
-        if reach <= 0.0 {
-            return (Rgb::ZERO, 0.0, false);
+        if reach <= 0.0 || K == 0 {
+            return out;
+        }
+        let (mut low, mut high) = (points[0], points[0]);
+        for p in &points[1..] {
+            low = low.min(*p);
+            high = high.max(*p);
         }
         let query = Aabb {
-            min: point - Vec3::splat(reach),
-            max: point + Vec3::splat(reach),
+            min: low - Vec3::splat(reach),
+            max: high + Vec3::splat(reach),
         };
-        // The nodes within reach, each once, in the order of the (fixed) traversal.
-        let mut near: Vec<(u32, f32)> = Vec::new();
-        self.bvh.overlapping(&query, |k| {
-            let distance = self.shapes[self.nodes[k] as usize].centroid.distance(point);
-            if distance < reach {
-                near.push((k as u32, distance));
-            }
-        });
-        let (mut sum, mut share, mut by_pieces) = (Rgb::ZERO, 0.0, false);
         let mut open = Vec::new();
-        for (k, distance) in near {
-            let d = distance / reach;
-            let w = f64::from((2.0 - 2.0 * d).clamp(0.0, 1.0));
-            if w <= 0.0 {
-                continue;
-            }
-            open.push(self.nodes[k as usize]);
-            while let Some(n) = open.pop() {
-                let shape = &self.shapes[n as usize];
-                let node = &mesh.nodes[n as usize];
-                let opened = shape.centroid.distance(point) < OPEN_WITHIN * shape.diameter;
-                let facing = mesh.patches[node.patch as usize].normal;
-                match node.children {
-                    Some(c) if opened => open.extend(c..c + 4),
-                    None if opened && !self.values.is_empty() => {
-                        by_pieces = true;
-                        let e = node.elements.start as usize;
-                        let (at, values) = (&self.pieces[e], &self.values[e]);
-                        for (k, value) in values.iter().enumerate() {
-                            let shape = Shape {
-                                centroid: at.centroids[k],
-                                diameter: at.diameter,
-                                area: at.areas[k],
-                            };
-                            let f = near_factor(
-                                || pieces(&node.face)[k],
-                                facing,
-                                &shape,
-                                point,
-                                normal,
-                            );
-                            sum += *value * (w * f);
-                            share += w * f;
+        self.bvh.overlapping(&query, |k| {
+            let cut = self.nodes[k];
+            let centroid = self.shapes[cut as usize].centroid;
+            for (point, (sum, share, by_pieces)) in points.iter().zip(&mut out) {
+                let d = centroid.distance(*point) / reach;
+                let w = f64::from((2.0 - 2.0 * d).clamp(0.0, 1.0));
+                if d >= 1.0 || w <= 0.0 {
+                    continue;
+                }
+                open.push(cut);
+                while let Some(n) = open.pop() {
+                    let shape = &self.shapes[n as usize];
+                    let node = &mesh.nodes[n as usize];
+                    let opened = shape.centroid.distance(*point) < OPEN_WITHIN * shape.diameter;
+                    match node.children {
+                        Some(c) if opened => open.extend(c..c + 4),
+                        None if opened && !self.values.is_empty() => {
+                            *by_pieces = true;
+                            let e = node.elements.start as usize;
+                            let (at, values) = (&self.pieces[e], &self.values[e]);
+                            for (k, value) in values.iter().enumerate() {
+                                let piece = Shape {
+                                    centroid: at.centroids[k],
+                                    diameter: at.diameter,
+                                    area: at.areas[k],
+                                    normal: shape.normal,
+                                };
+                                let f =
+                                    near_factor(|| pieces(&node.face)[k], &piece, *point, normal);
+                                *sum += *value * (w * f);
+                                *share += w * f;
+                            }
                         }
-                    }
-                    _ => {
-                        let f = near_factor(|| node.face, facing, shape, point, normal);
-                        by_pieces |= opened && f > 0.0;
-                        sum += self.reflected[n as usize] * (w * f);
-                        share += w * f;
+                        _ => {
+                            let f = near_factor(|| node.face, shape, *point, normal);
+                            *by_pieces |= opened && f > 0.0;
+                            *sum += self.reflected[n as usize] * (w * f);
+                            *share += w * f;
+                        }
                     }
                 }
             }
+        });
+        for (_, share, _) in &mut out {
+            *share = share.min(1.0);
         }
-        (sum, share.min(1.0), by_pieces)
+        out
     }
 }
 
-/// A near-field face, as the evaluation needs it.
+/// A near-field face, as the evaluation needs it (held by node: every pixel asks).
 #[derive(Clone, Copy, Debug)]
 struct Shape {
     centroid: Vec3,
     diameter: f32,
     area: f64,
+    /// The front normal of the face's patch.
+    normal: Vec3,
 }
 
 impl Shape {
-    fn of(face: &Face) -> Self {
+    fn of(face: &Face, normal: Vec3) -> Self {
         Self {
             centroid: face.centroid(),
             diameter: face.diameter(),
             area: face.area(),
+            normal,
         }
     }
 }
@@ -245,21 +261,15 @@ fn pieces(face: &Face) -> [Face; PIECES] {
     face.split()
 }
 
-/// The form factor from `point` (unit normal `normal`) to a face (front normal `facing`, shape
-/// `shape`): Lambert's exact factor within [`EXACT_WITHIN`] diameters of the face (which
-/// `face` then gives), the point-to-area kernel A cosθ cosθ' / (π r²) beyond, where it is
-/// within a few per cent of it and costs a tenth.
-fn near_factor(
-    face: impl FnOnce() -> Face,
-    facing: Vec3,
-    shape: &Shape,
-    point: Vec3,
-    normal: Vec3,
-) -> f64 {
+/// The form factor from `point` (unit normal `normal`) to a face (shape `shape`): Lambert's
+/// exact factor within [`EXACT_WITHIN`] diameters of the face (which `face` then gives), the
+/// point-to-area kernel A cosθ cosθ' / (π r²) beyond, where it is within a few per cent of it
+/// and costs a tenth.
+fn near_factor(face: impl FnOnce() -> Face, shape: &Shape, point: Vec3, normal: Vec3) -> f64 {
     let w = shape.centroid - point;
     let r2 = w.length_squared();
     if r2 > (EXACT_WITHIN * shape.diameter).powi(2) {
-        let (cos_x, cos_y) = (normal.dot(w), -facing.dot(w));
+        let (cos_x, cos_y) = (normal.dot(w), -shape.normal.dot(w));
         if cos_x <= 0.0 || cos_y <= 0.0 {
             return 0.0;
         }
