@@ -9,17 +9,9 @@
 //! leak of non-conforming meshes (Baum, Mann, Smith & Winget 1991). The cure is to put element
 //! edges on the outline, a D⁰ discontinuity (Heckbert 1992; Lischinski, Tampieri & Greenberg
 //! 1992). For a convex outline this is exact and cheap: the root faces are cut along it before
-//! the quadtrees are built, so no element of any level straddles it.
-//!
-//! A solid standing on a floor without a bottom face (a box as bare OBJ files often have it,
-//! open underneath) has no polygon lying on the floor, but its side faces' bottom edges lie in
-//! the floor's plane and close a loop around its footprint: inside, the floor and the solid's
-//! inner sides make a cavity that no light reaches. Where that loop is convex it is cut into
-//! the floor like an outline ([`footprints`]); before, the floor's elements straddling it shone
-//! the room's light into the cavity (the bare OBJ room's block 1–1.5 % too bright, its inner
-//! sides gathering a third of a per cent of the light outside). (The quadtree refinement of
-//! [`super::contact`] remains for what this does not cover: concave footprints, small or
-//! curved covers.)
+//! the quadtrees are built, so no element of any level straddles it. (The quadtree refinement
+//! of [`super::contact`] remains for what this does not cover: solids standing on a floor
+//! without a bottom face, small or curved covers.)
 //!
 //! The cut of a convex face F by a convex outline Q (projected along F's normal) is convex
 //! pieces: F ∩ Q, and for each edge k of Q the part of F outside edge k and inside edges
@@ -112,7 +104,6 @@ struct Outline {
 /// lying on it or hovering within reach of its plane (either side).
 pub(super) fn imprint(scene: &Scene, pieces: &mut [Piece]) {
     let large = large_area(pieces);
-    footprints(scene, pieces, large);
     let outlines: Vec<Outline> = scene
         .polygons
         .iter()
@@ -141,149 +132,6 @@ pub(super) fn imprint(scene: &Scene, pieces: &mut [Piece]) {
             }
         }
     }
-}
-
-/// Two planes are one base plane when their normals agree to this (cosine) and their offsets
-/// to [`PLANE_OFFSET`] of the scene's size.
-const SAME_PLANE: f64 = 1.0 - 1e-6;
-
-/// See [`SAME_PLANE`].
-const PLANE_OFFSET: f64 = 1e-6;
-
-/// A standing polygon's edge lies on a base plane when both its ends are within this fraction
-/// of the polygon's diameter of it (the contact refinement's `STAND`: modelling tools leave
-/// solids floating or sunk a little).
-const ON_PLANE: f64 = 0.05;
-
-/// Cuts the pieces of every base plane (the plane of pieces whose total area is at least
-/// [`large_area`]) along the convex footprints of the solids standing on it: the closed loops
-/// of edges that one object's polygons, standing on the front of the plane, lay in it.
-fn footprints(scene: &Scene, pieces: &mut [Piece], large: f64) {
-    let (lo, hi) = bounds(
-        pieces
-            .iter()
-            .flat_map(|p| p.roots.iter())
-            .flat_map(|f| f.corners().iter().copied()),
-    );
-    let size = (hi - lo).length().max(f64::MIN_POSITIVE);
-    // The base planes: (normal, offset) with the area of their pieces, in the pieces' order.
-    let mut planes: Vec<(DVec3, f64, f64)> = Vec::new();
-    for piece in pieces.iter() {
-        let n = piece.normal.as_dvec3();
-        let d = n.dot(piece.roots[0].corners()[0].as_dvec3());
-        let area = piece.area();
-        match planes
-            .iter_mut()
-            .find(|(m, e, _)| n.dot(*m) >= SAME_PLANE && (d - e).abs() <= PLANE_OFFSET * size)
-        {
-            Some(plane) => plane.2 += area,
-            None => planes.push((n, d, area)),
-        }
-    }
-    for &(n, d, area) in &planes {
-        if area < large {
-            continue;
-        }
-        for (object, loop_) in standing_loops(scene, n, d) {
-            let Some(q) = convex_loop(&loop_, n) else {
-                continue;
-            };
-            let (qlo, qhi) = bounds(q.iter().map(|c| c.as_vec3()));
-            for piece in pieces.iter_mut() {
-                let m = piece.normal.as_dvec3();
-                let e = m.dot(piece.roots[0].corners()[0].as_dvec3());
-                if m.dot(n) < SAME_PLANE
-                    || (e - d).abs() > PLANE_OFFSET * size
-                    || scene.polygons[piece.polygon].object == object
-                {
-                    continue;
-                }
-                let (plo, phi) =
-                    bounds(piece.roots.iter().flat_map(|f| f.corners().iter().copied()));
-                if qlo.cmple(phi).all() && qhi.cmpge(plo).all() {
-                    piece.cut(&q);
-                }
-            }
-        }
-    }
-}
-
-/// Per object, the closed loops of edges that its polygons standing on the front of the
-/// plane n·x = d lay in it (each edge within [`ON_PLANE`] of its polygon's size of the plane;
-/// polygons in the plane's own direction do not stand on it), as corner lists in loop order.
-fn standing_loops(scene: &Scene, n: DVec3, d: f64) -> Vec<(usize, Vec<DVec3>)> {
-    let mut edges: Vec<(usize, DVec3, DVec3)> = Vec::new();
-    for p in &scene.polygons {
-        let v = &p.vertices;
-        let normal = model::polymesh::vector_area(v)
-            .normalize_or_zero()
-            .as_dvec3();
-        if normal.dot(n).abs() > 0.5 || v.len() < 3 {
-            continue;
-        }
-        let tolerance = ON_PLANE * f64::from(super::face::diameter(v));
-        let height = |x: Vec3| n.dot(x.as_dvec3()) - d;
-        let centre = v.iter().map(|x| height(*x)).sum::<f64>() / v.len() as f64;
-        if centre <= tolerance {
-            continue;
-        }
-        for i in 0..v.len() {
-            let (a, b) = (v[i], v[(i + 1) % v.len()]);
-            if height(a).abs() <= tolerance && height(b).abs() <= tolerance {
-                edges.push((p.object, a.as_dvec3(), b.as_dvec3()));
-            }
-        }
-    }
-    // Chain each object's edges by shared corners (exactly shared, as a mesh's are).
-    let mut used = vec![false; edges.len()];
-    let mut loops = Vec::new();
-    for start in 0..edges.len() {
-        if used[start] {
-            continue;
-        }
-        used[start] = true;
-        let (object, first, mut at) = edges[start];
-        let mut corners = vec![first];
-        let closed = loop {
-            if at == first {
-                break true;
-            }
-            corners.push(at);
-            let next = (0..edges.len()).find(|&k| {
-                !used[k] && edges[k].0 == object && (edges[k].1 == at || edges[k].2 == at)
-            });
-            let Some(k) = next else {
-                break false;
-            };
-            used[k] = true;
-            at = if edges[k].1 == at {
-                edges[k].2
-            } else {
-                edges[k].1
-            };
-        };
-        if closed && corners.len() >= 3 {
-            loops.push((object, corners));
-        }
-    }
-    loops
-}
-
-/// The loop projected on the plane of normal `n`, if it is a convex polygon (either way round)
-/// with its collinear corners dropped.
-fn convex_loop(corners: &[DVec3], n: DVec3) -> Option<Vec<DVec3>> {
-    let q = simplify(corners);
-    if q.len() < 3 {
-        return None;
-    }
-    let centre = q.iter().sum::<DVec3>() / q.len() as f64;
-    let projected: Vec<Vec3> = q
-        .iter()
-        .map(|c| (*c - n * n.dot(*c - centre)).as_vec3())
-        .collect();
-    let normal = n.as_vec3();
-    (is_convex(&projected, normal) || is_convex(&projected, -normal))
-        .then(|| projected.iter().map(|c| c.as_dvec3()).collect())
 }
 
 /// The polygon as an outline, if it is convex, planar and at least `large` in area.
@@ -454,83 +302,6 @@ mod tests {
         let (lo, hi) = bounds(f.corners().iter().copied());
         let apart = hi.x <= 1.0 + t || lo.x >= 2.5 - t || hi.y <= 1.0 + t || lo.y >= 2.0 - t;
         within || apart
-    }
-
-    /// A 4 × 3 floor (object 0, facing +z) with a box standing on [1, 2] × [1, 1.5] (object 1:
-    /// its `sides` of −y, +x, +y, −x and a top, no bottom face).
-    fn floor_and_open_box(sides: usize) -> (Scene, Piece) {
-        use crate::scene::Polygon;
-        let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
-        let floor = vec![
-            v(0.0, 0.0, 0.0),
-            v(4.0, 0.0, 0.0),
-            v(4.0, 3.0, 0.0),
-            v(0.0, 3.0, 0.0),
-        ];
-        let foot = [
-            v(1.0, 1.0, 0.0),
-            v(2.0, 1.0, 0.0),
-            v(2.0, 1.5, 0.0),
-            v(1.0, 1.5, 0.0),
-        ];
-        let up = Vec3::Z;
-        let mut polygons = vec![Polygon {
-            vertices: floor.clone(),
-            material: 0,
-            object: 0,
-        }];
-        for k in 0..sides {
-            let (a, b) = (foot[k], foot[(k + 1) % 4]);
-            polygons.push(Polygon {
-                vertices: vec![a, b, b + up, a + up],
-                material: 0,
-                object: 1,
-            });
-        }
-        polygons.push(Polygon {
-            vertices: foot.iter().map(|c| *c + up).collect(),
-            material: 0,
-            object: 1,
-        });
-        let scene = Scene {
-            polygons,
-            ..Scene::default()
-        };
-        let piece = Piece {
-            polygon: 0,
-            normal: Vec3::Z,
-            roots: root_faces(&floor, Vec3::Z),
-            imprinted: Vec::new(),
-        };
-        (scene, piece)
-    }
-
-    #[test]
-    fn a_solid_standing_without_a_bottom_face_cuts_its_footprint_into_the_floor() {
-        let (scene, piece) = floor_and_open_box(4);
-        let mut pieces = vec![piece];
-        footprints(&scene, &mut pieces, 0.0);
-        let floor = &pieces[0].roots;
-        let total: f64 = floor.iter().map(Face::area).sum();
-        assert!((total - 12.0).abs() < 1e-5, "area kept: {total}");
-        let t = 1e-5;
-        let mut covered = 0.0;
-        for f in floor {
-            let (lo, hi) = bounds(f.corners().iter().copied());
-            let within = lo.x >= 1.0 - t && hi.x <= 2.0 + t && lo.y >= 1.0 - t && hi.y <= 1.5 + t;
-            let apart = hi.x <= 1.0 + t || lo.x >= 2.0 - t || hi.y <= 1.0 + t || lo.y >= 1.5 - t;
-            assert!(within || apart, "{f:?} straddles the footprint");
-            if within {
-                covered += f.area();
-            }
-        }
-        assert!((covered - 0.5).abs() < 1e-5, "footprint area {covered}");
-        // Three sides leave the loop open: nothing to cut along.
-        let (scene, piece) = floor_and_open_box(3);
-        let mut pieces = vec![piece];
-        let before = pieces[0].roots.len();
-        footprints(&scene, &mut pieces, 0.0);
-        assert_eq!(pieces[0].roots.len(), before);
     }
 
     #[test]
