@@ -50,6 +50,9 @@ def main():
     p.add_argument("--variant", default="llvm_ad_rgb")
     p.add_argument("--seed", type=int, default=0, help="sampler seed (a reference and a "
                    "cheaper render compared with it need different seeds)")
+    p.add_argument("--passes", type=int, default=1, help="independent renders averaged, of "
+                   "seeds SEED, SEED + 1000, ... (each of --spp samples): the noise falls as "
+                   "1/sqrt(passes) where one render of passes x spp would not fit in memory")
     p.add_argument("-o", "--output", required=True)
     args = p.parse_args()
     args.width, args.height = suite.image_size(args.scene, args.width, args.height)
@@ -70,13 +73,20 @@ def main():
         }
         scene = mi.load_dict(sd)
         t = time.time()
-        bitmap = mi.Bitmap(mi.render(scene, spp=args.spp, seed=args.seed))  # evaluated here, not lazily later
+        total = None
+        for k in range(args.passes):
+            # Evaluated here, not lazily later.
+            image = np.array(mi.render(scene, spp=args.spp, seed=args.seed + 1000 * k),
+                             dtype=np.float64)
+            total = image if total is None else total + image
+        bitmap = mi.Bitmap((total / args.passes).astype(np.float32))
         seconds = time.time() - t
     if args.output.lower().endswith(".pfm"):
         write_pfm(args.output, bitmap)
     else:
         bitmap.write(args.output)
-    print(f"{args.output}: {args.width}x{args.height}, {args.spp} spp, {seconds:.2f} s")
+    print(f"{args.output}: {args.width}x{args.height}, {args.passes} x {args.spp} spp, "
+          f"{seconds:.2f} s")
 
 
 if __name__ == "__main__":

@@ -10,7 +10,7 @@
 #   Environment: WIDTH, HEIGHT (image size; default the scene's [render] size, else 512),
 #   BIN (default target/release/radiosity), PY (a Python with mitsuba and numpy: /work/venv),
 #   BPY (a Python 3.11 with bpy==5.0.1 and mitsuba: /work/bpyenv).
-# The reference comes from benches/image/reference.py (Mitsuba, seed 0); Mitsuba's rows here use
+# The reference comes from benches/image/reference.py (Mitsuba, seeds 0, 1000, ..., 7000); Mitsuba's rows here use
 # seed 1. Times are wall-clock of the render alone for Cycles (bpy.ops.render.render: scene sync,
 # BVH, sampling, denoising, file write) and Mitsuba (mi.render, JIT compilation included; scene
 # load excluded), and of the whole command for ours (load, mesh, form factors, solve, render).
