@@ -53,10 +53,7 @@ impl<'a> ShadowRays<'a> {
         let (x, y) = (self.from.point(u, v), self.to.point(su, sv));
         let origin = x + self.n_from * self.lift;
         let target = y + self.n_to * self.lift;
-        let d = (y - x).as_dvec3();
-        let weight = (d.dot(self.n_from.as_dvec3()).max(0.0)
-            * (-d.dot(self.n_to.as_dvec3())).max(0.0))
-            / d.length_squared().powi(2).max(f64::MIN_POSITIVE);
+        let weight = kernel((x, self.n_from), (y, self.n_to));
         let arrives = !self.bvh.occluded(&Ray::new(origin, target - origin), 1.0);
         self.total += weight;
         if arrives {
@@ -70,6 +67,15 @@ impl<'a> ShadowRays<'a> {
     pub fn fraction(&self) -> Option<f64> {
         (self.total > 0.0).then(|| self.visible / self.total)
     }
+}
+
+/// The weight of a ray from x (front normal n_x) to y (front normal n_y): cosθ_x cosθ_y / r²
+/// over r² (the form factor's integrand, up to π, with the cosines taken of the unnormalised
+/// y − x); 0 where either point lies behind the other's face.
+pub(crate) fn kernel((x, n_x): (Vec3, Vec3), (y, n_y): (Vec3, Vec3)) -> f64 {
+    let d = (y - x).as_dvec3();
+    (d.dot(n_x.as_dvec3()).max(0.0) * (-d.dot(n_y.as_dvec3())).max(0.0))
+        / d.length_squared().powi(2).max(f64::MIN_POSITIVE)
 }
 
 /// Sixteen bits `i` of `bits` (i < 4) as a jitter in (0, 1).

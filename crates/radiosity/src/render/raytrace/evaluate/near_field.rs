@@ -190,10 +190,10 @@ impl NearField {
             let centroid = self.shapes[cut as usize].centroid;
             for (point, (sum, share, by_pieces)) in points.iter().zip(&mut out) {
                 let d = centroid.distance(*point) / reach;
-                let w = f64::from((2.0 - 2.0 * d).clamp(0.0, 1.0));
-                if d >= 1.0 || w <= 0.0 {
+                if d >= 1.0 {
                     continue;
                 }
+                let w = f64::from((2.0 - 2.0 * d).clamp(0.0, 1.0));
                 open.push(cut);
                 while let Some(n) = open.pop() {
                     let shape = &self.shapes[n as usize];
