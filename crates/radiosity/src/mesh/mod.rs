@@ -16,6 +16,7 @@ mod budget;
 mod contact;
 mod discontinuity;
 pub mod display;
+mod enclosure;
 mod face;
 mod imprint;
 pub mod lit_mesh;
@@ -443,6 +444,11 @@ mod tests {
     /// A two-sided unit cube (faces outward), optionally without its top, standing on a
     /// two-sided floor of 4 × 4.
     fn cube_on_floor(closed: bool) -> Scene {
+        cube_on_floor_without(if closed { None } else { Some(1) })
+    }
+
+    /// The same, without its face `skip` (0 the bottom, 1 the top).
+    fn cube_on_floor_without(skip: Option<usize>) -> Scene {
         let mut scene = square_scene(true);
         scene.polygons[0].vertices = vec![
             Vec3::new(-2.0, 0.0, 2.0),
@@ -464,7 +470,7 @@ mod tests {
             [c(1., 0., 0.), c(1., 1., 0.), c(1., 1., 1.), c(1., 0., 1.)],
         ];
         for (k, f) in faces.iter().enumerate() {
-            if closed || k != 1 {
+            if skip != Some(k) {
                 scene.polygons.push(Polygon {
                     vertices: f.to_vec(),
                     material: 0,
@@ -494,6 +500,37 @@ mod tests {
         assert_eq!(open.patches.len(), 2 + 2 * 5);
         closed.validate().unwrap();
         open.validate().unwrap();
+    }
+
+    #[test]
+    fn a_two_sided_box_standing_on_a_floor_without_its_bottom_is_closed_by_the_floor() {
+        let outsides = |scene: &Scene| {
+            let mesh = Mesh::build(scene, Subdivision::Elements(64));
+            mesh.validate().unwrap();
+            mesh.patches.iter().filter(|p| p.object == 1).count()
+        };
+        let standing = cube_on_floor_without(Some(0));
+        assert_eq!(outsides(&standing), 5, "the floor caps it: outsides only");
+        // Lifted by 1 mm: light reaches its inside through the gap.
+        let mut lifted = standing.clone();
+        for p in &mut lifted.polygons[1..] {
+            p.vertices.iter_mut().for_each(|v| v.y += 1e-3);
+        }
+        assert_eq!(outsides(&lifted), 10);
+        // Half off a floor of 1 × 4 along x: open where it overhangs.
+        let mut overhanging = standing.clone();
+        for v in &mut overhanging.polygons[0].vertices {
+            v.x = v.x.signum() * 0.5;
+        }
+        assert_eq!(outsides(&overhanging), 10);
+        // A floor facing down, one-sided: nothing reflects on the inside, still open.
+        let mut facing_down = standing.clone();
+        facing_down.polygons[0].vertices.reverse();
+        facing_down.materials.push(Material::default());
+        facing_down.polygons[0].material = 1;
+        assert_eq!(outsides(&facing_down), 10);
+        // Open at the top: no floor there.
+        assert_eq!(outsides(&cube_on_floor(false)), 10);
     }
 
     #[test]

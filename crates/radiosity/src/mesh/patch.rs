@@ -16,6 +16,7 @@
 use glam::Vec3;
 
 use super::discontinuity::cut_shadows;
+use super::enclosure::enclosed_objects;
 use super::imprint::{imprint, Piece};
 use super::triangulate::{is_convex, triangulate};
 use super::Face;
@@ -107,52 +108,6 @@ pub(super) fn patches(scene: &Scene, discontinuity: bool) -> Vec<(Patch, Vec<Fac
         }
     }
     out
-}
-
-/// For every object: whether its polygons close a surface around a volume, facing outward.
-///
-/// The back sides of such an object's two-sided polygons face into the volume, which no light
-/// can reach through the surface; a solver given them anyway can only err (a cluster model
-/// pushing light onto them, a straddling element leaking into them: a two-sided scanned mesh
-/// in a box came out 40 % too bright). So they are not made: a closed two-sided object is its
-/// outward side. Closed means every directed edge (exact corner positions) is met once in each
-/// direction, so the surface is watertight and consistently oriented; outward means its
-/// signed volume Σ a·(b × c)/6 over a fan of each polygon is positive. Emitting objects are
-/// left alone.
-fn enclosed_objects(scene: &Scene) -> Vec<bool> {
-    use crate::scene::coincident::exact_bits;
-    use std::collections::HashMap;
-    /// An undirected edge by its corners' bit patterns, smaller first.
-    type Edge = ([u32; 3], [u32; 3]);
-    let mut edges: Vec<HashMap<Edge, i32>> = vec![HashMap::new(); scene.objects.len()];
-    let mut volume = vec![0.0f64; scene.objects.len()];
-    let mut eligible = vec![true; scene.objects.len()];
-    for polygon in &scene.polygons {
-        let material = &scene.materials[polygon.material];
-        let o = polygon.object;
-        eligible[o] &= material.two_sided && !material.is_emitter();
-        let vs = &polygon.vertices;
-        for (k, &a) in vs.iter().enumerate() {
-            let b = vs[(k + 1) % vs.len()];
-            // +1 for a → b, −1 for b → a under one unordered key.
-            let (ka, kb) = (exact_bits(a), exact_bits(b));
-            let (lo, hi, sign) = if ka < kb { (ka, kb, 1) } else { (kb, ka, -1) };
-            *edges[o].entry((lo, hi)).or_default() += sign * 1000 + 1;
-        }
-        let a = vs[0].as_dvec3();
-        for w in vs[1..].windows(2) {
-            volume[o] += a.dot(w[0].as_dvec3().cross(w[1].as_dvec3())) / 6.0;
-        }
-    }
-    (0..scene.objects.len())
-        .map(|o| {
-            // Once in each direction: the sum is (+1000 + 1) + (−1000 + 1) = 2.
-            eligible[o]
-                && !edges[o].is_empty()
-                && edges[o].values().all(|&c| c == 2)
-                && volume[o] > 0.0
-        })
-        .collect()
 }
 
 /// The polygon as planar pieces, each with its unit normal and root faces: the whole polygon
