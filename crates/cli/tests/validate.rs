@@ -108,7 +108,10 @@ fn reference_suite_subset_is_within_one_percent() {
 /// with the elements' own rows, visibility and source pieces (docs/validation.md, thirteenth
 /// round): partitions +0.67 %, closed-mesh −0.23 %, blender-gltf +0.31 %,
 /// emitter-near-wall-away −0.35 %; each within the suite's 1 %. The two closed rooms' absorbed
-/// over emitted power, 1.0009 and 1.0008, within the suite's 0.1 %.
+/// over emitted power, 1.0009 and 1.0008, within the suite's 0.1 %. And the bare OBJ room
+/// (`bare-obj-many`, every face two-sided), whose block stands on the floor without a bottom:
+/// its inner sides, lit by the floor's elements straddling its footprint, took it to +1.46 %
+/// until the floor was taken to close it (`mesh/enclosure.rs`; +0.68 % since).
 #[test]
 fn hierarchical_lights_rooms_through_a_door_and_the_cheap_suite() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
@@ -119,6 +122,7 @@ fn hierarchical_lights_rooms_through_a_door_and_the_cheap_suite() {
         "closed-mesh",
         "blender-gltf",
         "emitter-near-wall-away",
+        "bare-obj-many",
     ] {
         args.extend(["--suite-scene", scene]);
     }
@@ -134,7 +138,7 @@ fn hierarchical_lights_rooms_through_a_door_and_the_cheap_suite() {
         .iter()
         .filter(|r| r["case"].as_str().unwrap().starts_with("suite "))
         .collect();
-    assert_eq!(suite.len(), 6, "{rows}");
+    assert_eq!(suite.len(), 7, "{rows}");
     for row in &suite {
         assert!(row["pass"] == true, "{row}");
     }
