@@ -1,7 +1,10 @@
 //! The near field of the evaluated picture: the quadtree nodes within reach of a point, seen
 //! with Lambert's exact factor (or the point kernel further off), the nodes next to the point
 //! opened into their children and the elements into their pieces (see the module docs of
-//! [`super`]).
+//! [`super`]), and the pieces right next to the point into quarters whose values follow the
+//! slope of their element's pieces, a linear reconstruction that keeps each piece's mean
+//! ([`split_piece`]): across a crease the light of the other surface changes fastest where the
+//! point weighs it most.
 
 use glam::Vec3;
 
@@ -38,6 +41,16 @@ const NEAR_REACH: f32 = 5.0;
 /// A near node below the cut (along a contact line or a shadow) is opened into its children
 /// within this many of its diameters of the point.
 const OPEN_WITHIN: f32 = 2.0;
+
+/// A piece within this many of its diameters of the point is split along the slope of its
+/// element's pieces ([`split_piece`]), and each quarter again, down to [`SPLIT_DEPTH`] levels.
+/// Measured on the furnished room at 256² against Mitsuba 3 (default solver): the bright line
+/// along the crease of the window wall and the ceiling, +29 % at its worst pixel, is +16.5 %
+/// at one level and +15.2 % at three; the picture 0.95 → 0.80 / 0.79 %.
+const SPLIT_WITHIN: f32 = 1.5;
+
+/// Levels of [`split_piece`] below a piece.
+const SPLIT_DEPTH: u32 = 3;
 
 /// Beyond this many face diameters, a near node's factor is the point kernel
 /// ([`near_factor`]).
@@ -205,6 +218,7 @@ impl NearField {
                             *by_pieces = true;
                             let e = node.elements.start as usize;
                             let (at, values) = (&self.pieces[e], &self.values[e]);
+                            let slope = Slope::fit(at, values, shape.normal);
                             for (k, value) in values.iter().enumerate() {
                                 let piece = Shape {
                                     centroid: at.centroids[k],
@@ -212,10 +226,29 @@ impl NearField {
                                     area: at.areas[k],
                                     normal: shape.normal,
                                 };
-                                let f =
-                                    near_factor(|| pieces(&node.face)[k], &piece, *point, normal);
-                                *sum += *value * (w * f);
-                                *share += w * f;
+                                let near =
+                                    piece.centroid.distance(*point) < SPLIT_WITHIN * piece.diameter;
+                                if near {
+                                    let face = pieces(&node.face)[k];
+                                    let (s, f) = split_piece(
+                                        (&face, shape.normal),
+                                        *value,
+                                        &slope,
+                                        (*point, normal),
+                                        SPLIT_DEPTH,
+                                    );
+                                    *sum += s * w;
+                                    *share += w * f;
+                                } else {
+                                    let f = near_factor(
+                                        || pieces(&node.face)[k],
+                                        &piece,
+                                        *point,
+                                        normal,
+                                    );
+                                    *sum += *value * (w * f);
+                                    *share += w * f;
+                                }
                             }
                         }
                         _ => {
@@ -256,6 +289,91 @@ impl Shape {
     }
 }
 
+/// The gradient of B − E over an element's plane, fitted to its pieces: the least-squares
+/// plane through the four pieces' values at their centroids, per channel.
+struct Slope {
+    /// Two orthonormal directions in the element's plane.
+    axes: [Vec3; 2],
+    /// dB/ds along each axis, per channel.
+    gradient: [Rgb; 2],
+}
+
+impl Slope {
+    fn fit(at: &Pieces, values: &[Rgb; PIECES], normal: Vec3) -> Self {
+        let u = (at.centroids[1] - at.centroids[0]).normalize_or_zero();
+        let u = if u == Vec3::ZERO {
+            normal.any_orthonormal_vector()
+        } else {
+            u
+        };
+        let axes = [u, normal.cross(u).normalize_or_zero()];
+        let mean_c = at.centroids.iter().sum::<Vec3>() / PIECES as f32;
+        let mean_v = values.iter().sum::<Rgb>() / PIECES as f64;
+        // Normal equations of the fit: M g = b, M = Σ d dᵀ over the centroids' offsets d.
+        let (mut m, mut b) = ([[0.0f64; 2]; 2], [Rgb::ZERO; 2]);
+        for (c, v) in at.centroids.iter().zip(values) {
+            let d = axes.map(|a| f64::from(a.dot(*c - mean_c)));
+            for i in 0..2 {
+                for j in 0..2 {
+                    m[i][j] += d[i] * d[j];
+                }
+                b[i] += (*v - mean_v) * d[i];
+            }
+        }
+        let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+        let gradient = if det.abs() > 1e-12 * (m[0][0] * m[1][1]).max(f64::MIN_POSITIVE) {
+            [
+                (b[0] * m[1][1] - b[1] * m[0][1]) / det,
+                (b[1] * m[0][0] - b[0] * m[1][0]) / det,
+            ]
+        } else {
+            [Rgb::ZERO; 2]
+        };
+        Self { axes, gradient }
+    }
+
+    /// The change of B − E from `from` to `to`.
+    fn change(&self, from: Vec3, to: Vec3) -> Rgb {
+        let d = to - from;
+        self.gradient[0] * f64::from(self.axes[0].dot(d))
+            + self.gradient[1] * f64::from(self.axes[1].dot(d))
+    }
+}
+
+/// The near part Σ F (B − E) and Σ F that `point` gets from `face`, a piece of mean B − E
+/// `value` (patch normal `front`), split into its four quarters with values along `slope` (each quarter's value
+/// shifted by the slope from the face's centroid to its own, at least zero; the shifts of the
+/// four quarters cancel, so the face keeps its mean), `depth` more times where the point is
+/// within [`SPLIT_WITHIN`] of a quarter's diameter. Next to a crease the light of the surface
+/// across it changes fast (the ceiling lit by a window below it: nothing at the wall, the
+/// most 30 cm off), and a wall point within a few centimetres of the ceiling weighs the
+/// ceiling's first centimetres the most: a constant value per piece showed a bright band along
+/// the crease.
+fn split_piece(
+    (face, front): (&Face, Vec3),
+    value: Rgb,
+    slope: &Slope,
+    (point, normal): (Vec3, Vec3),
+    depth: u32,
+) -> (Rgb, f64) {
+    let centre = face.centroid();
+    let (mut sum, mut share) = (Rgb::ZERO, 0.0);
+    for quarter in face.split() {
+        let shape = Shape::of(&quarter, front);
+        let v = (value + slope.change(centre, shape.centroid)).max(Rgb::ZERO);
+        if depth > 0 && shape.centroid.distance(point) < SPLIT_WITHIN * shape.diameter {
+            let (s, f) = split_piece((&quarter, front), v, slope, (point, normal), depth - 1);
+            sum += s;
+            share += f;
+        } else {
+            let f = near_factor(|| quarter, &shape, point, normal);
+            sum += v * f;
+            share += f;
+        }
+    }
+    (sum, share)
+}
+
 /// The four pieces of an element one quadtree step below it, in a fixed order.
 fn pieces(face: &Face) -> [Face; PIECES] {
     face.split()
@@ -277,4 +395,95 @@ fn near_factor(face: impl FnOnce() -> Face, shape: &Shape, point: Vec3, normal: 
     }
     let (corners, sides) = face().corners_f64();
     point_to_polygon(point.as_dvec3(), normal.as_dvec3(), &corners[..sides])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The unit square in z = 0, facing +z.
+    fn square() -> Face {
+        Face::quad(Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y)
+    }
+
+    #[test]
+    fn a_linear_field_is_fitted_exactly_from_the_pieces() {
+        let at = Pieces::of(&square());
+        let field = |c: Vec3| Rgb::splat(1.0 + 2.0 * f64::from(c.x) + 0.5 * f64::from(c.y));
+        let values = at.centroids.map(field);
+        let slope = Slope::fit(&at, &values, Vec3::Z);
+        let (from, to) = (Vec3::new(0.1, 0.2, 0.0), Vec3::new(0.7, 0.9, 0.0));
+        let change = slope.change(from, to);
+        let exact = field(to) - field(from);
+        assert!(
+            (change - exact).abs().max_element() < 1e-6,
+            "{change} vs {exact}"
+        );
+    }
+
+    #[test]
+    fn split_pieces_keep_their_mean_and_see_a_rising_field_across_a_crease() {
+        // A ceiling piece rising from nothing at a crease (B − E = y), seen from a wall point
+        // 1 cm from the crease: the wall point weighs the piece's first centimetres the most.
+        let face = square();
+        let slope = Slope {
+            axes: [Vec3::X, Vec3::Y],
+            gradient: [Rgb::ZERO, Rgb::ONE],
+        };
+        let (point, normal) = (Vec3::new(0.5, 0.0, 0.01), Vec3::Y);
+        let factor = |f: &Face| {
+            let (corners, sides) = f.corners_f64();
+            point_to_polygon(point.as_dvec3(), normal.as_dvec3(), &corners[..sides])
+        };
+        // The exact near part: the field at the centres of a 128 × 128 grid of cells.
+        let n = 128;
+        let mut exact = 0.0;
+        for i in 0..n {
+            for j in 0..n {
+                let (x0, y0, h) = (i as f32 / n as f32, j as f32 / n as f32, 1.0 / n as f32);
+                let cell = Face::quad(
+                    Vec3::new(x0, y0, 0.0),
+                    Vec3::new(x0 + h, y0, 0.0),
+                    Vec3::new(x0 + h, y0 + h, 0.0),
+                    Vec3::new(x0, y0 + h, 0.0),
+                );
+                exact += factor(&cell) * f64::from(y0 + 0.5 * h);
+            }
+        }
+        let constant = factor(&face) * 0.5;
+        assert!(constant > 1.3 * exact, "the constant piece overstates it");
+        let (split, share) = split_piece(
+            (&face, Vec3::Z),
+            Rgb::splat(0.5),
+            &slope,
+            (point, normal),
+            3,
+        );
+        // The quarters tile it; those beyond EXACT_WITHIN of their diameters are seen with the
+        // point kernel, within a few per cent of Lambert's factor.
+        let whole = factor(&face);
+        assert!((share - whole).abs() < 0.02 * whole, "{share} vs {whole}");
+        println!(
+            "exact {exact} constant {constant} split {} share {share}",
+            split.x
+        );
+        let error = (split.x - exact).abs() / exact;
+        assert!(
+            error < 0.25 * (constant - exact) / exact,
+            "split {} exact {exact}",
+            split.x
+        );
+        // With no slope the quarters keep the piece's value: the constant estimate again.
+        let flat = Slope {
+            gradient: [Rgb::ZERO; 2],
+            ..slope
+        };
+        let (same, _) = split_piece((&face, Vec3::Z), Rgb::splat(0.5), &flat, (point, normal), 3);
+        assert!(
+            (same.x - 0.5 * share).abs() < 1e-9,
+            "{} vs {}",
+            same.x,
+            0.5 * share
+        );
+    }
 }
