@@ -51,6 +51,7 @@ pub(super) fn enclosed_objects(scene: &Scene) -> Vec<bool> {
     let mut edges: Vec<HashMap<Edge, (i32, Vec3, Vec3)>> = vec![HashMap::new(); n];
     let mut volume = vec![0.0f64; n];
     let mut eligible = vec![true; n];
+    let mut bounds = vec![(DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)); n];
     for polygon in &scene.polygons {
         let material = &scene.materials[polygon.material];
         let o = polygon.object;
@@ -62,94 +63,145 @@ pub(super) fn enclosed_objects(scene: &Scene) -> Vec<bool> {
             let (lo, hi, sign) = if ka < kb { (ka, kb, 1) } else { (kb, ka, -1) };
             let entry = edges[o].entry((lo, hi)).or_insert((0, a, b));
             *entry = (entry.0 + sign * 1000 + 1, a, b);
+            let (lo, hi) = &mut bounds[o];
+            (*lo, *hi) = (lo.min(a.as_dvec3()), hi.max(a.as_dvec3()));
         }
         let a = vs[0].as_dvec3();
         for w in vs[1..].windows(2) {
             volume[o] += a.dot(w[0].as_dvec3().cross(w[1].as_dvec3())) / 6.0;
         }
     }
-    (0..n)
-        .map(|o| {
-            if !eligible[o] || edges[o].is_empty() {
-                return false;
+    let mut enclosed = vec![false; n];
+    let mut footprints = Vec::new();
+    for o in 0..n {
+        if !eligible[o] || edges[o].is_empty() {
+            continue;
+        }
+        // Once in each direction: the sum is (+1000 + 1) + (−1000 + 1) = 2.
+        if edges[o].values().all(|e| e.0 == 2) {
+            enclosed[o] = volume[o] > 0.0;
+            continue;
+        }
+        // Met once (±1000 + 1) or once in each direction, nothing else; in key order, so that
+        // the result does not depend on the map's.
+        let mut open: Vec<(&Edge, DVec3, DVec3)> = Vec::new();
+        for (key, &(count, a, b)) in &edges[o] {
+            match count {
+                2 => {}
+                1001 | -999 => open.push((key, a.as_dvec3(), b.as_dvec3())),
+                _ => {
+                    open.clear();
+                    break;
+                }
             }
-            // Once in each direction: the sum is (+1000 + 1) + (−1000 + 1) = 2.
-            if edges[o].values().all(|e| e.0 == 2) {
-                return volume[o] > 0.0;
+        }
+        open.sort_unstable_by_key(|e| *e.0);
+        let open: Vec<(DVec3, DVec3)> = open.into_iter().map(|(_, a, b)| (a, b)).collect();
+        let size = (bounds[o].1 - bounds[o].0).length();
+        footprints.extend(Footprint::new(o, volume[o], &open, size));
+    }
+    // One pass over the polygons for every footprint: which of its probes some reflecting
+    // polygon of another object in its plane covers.
+    for q in &scene.polygons {
+        let (lo, hi) = q.vertices.iter().fold(
+            (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)),
+            |(lo, hi), v| (lo.min(v.as_dvec3()), hi.max(v.as_dvec3())),
+        );
+        let two_sided = scene.materials[q.material].two_sided;
+        for f in &mut footprints {
+            if q.object == f.object
+                || (lo - f.hi).max_element() > 0.0
+                || (f.lo - hi).max_element() > 0.0
+                || f.covered.iter().all(|&c| c)
+            {
+                continue;
             }
-            // Met once (±1000 + 1) or once in each direction, nothing else.
-            let open: Vec<(DVec3, DVec3)> = edges[o]
-                .values()
-                .filter(|e| e.0 != 2)
-                .map(|&(count, a, b)| match count {
-                    1001 | -999 => Some((a.as_dvec3(), b.as_dvec3())),
-                    _ => None,
-                })
-                .collect::<Option<_>>()
-                .unwrap_or_default();
-            !open.is_empty() && stands_on_a_floor(scene, o, volume[o], &open)
-        })
-        .collect()
+            let Some(normal) = model::polymesh::vector_area(&q.vertices)
+                .as_dvec3()
+                .try_normalize()
+            else {
+                continue;
+            };
+            let facing = normal.dot(f.up);
+            let coplanar = facing.abs() > 1.0 - 1e-6
+                && q.vertices
+                    .iter()
+                    .all(|v| f.up.dot(v.as_dvec3() - f.origin).abs() <= f.tolerance);
+            if !coplanar || !(facing > 0.0 || two_sided) {
+                continue;
+            }
+            let vs: Vec<DVec3> = q.vertices.iter().map(|v| v.as_dvec3()).collect();
+            for (probe, covered) in f.probes.iter().zip(&mut f.covered) {
+                *covered |= covers(&vs, normal, *probe, f.tolerance);
+            }
+        }
+    }
+    for f in footprints {
+        enclosed[f.object] = f.covered.iter().all(|&c| c);
+    }
+    enclosed
 }
 
-/// Whether object `o`, of faces' signed volume `volume`, is closed by a floor along its open
-/// edges `open` (directed as its polygons run them).
-fn stands_on_a_floor(scene: &Scene, o: usize, volume: f64, open: &[(DVec3, DVec3)]) -> bool {
-    let corners = || {
-        scene
-            .polygons
+/// Where an object with open edges would stand on a floor: the plane of its open edges and the
+/// points of that plane a floor must cover.
+struct Footprint {
+    object: usize,
+    /// The open edges' plane: a point of it and the unit normal into the solid (+N).
+    origin: DVec3,
+    up: DVec3,
+    tolerance: f64,
+    /// Each open corner, each open edge's midpoint and the cap's centroid.
+    probes: Vec<DVec3>,
+    /// Which probes a floor polygon covers.
+    covered: Vec<bool>,
+    /// The probes' bounding box, widened by the tolerance.
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl Footprint {
+    /// The footprint of object `o` (faces' signed volume `volume`, diameter `size`) along its
+    /// open edges `open` (directed as its polygons run them), if they lie in one plane and cap
+    /// a volume that is not negligible.
+    fn new(o: usize, volume: f64, open: &[(DVec3, DVec3)], size: f64) -> Option<Self> {
+        let newell: DVec3 = open.iter().map(|(a, b)| a.cross(*b)).sum();
+        let up = newell.try_normalize()?;
+        let origin = open.first()?.0;
+        let tolerance = PLANE_TOLERANCE * size;
+        if open
             .iter()
-            .filter(move |p| p.object == o)
-            .flat_map(|p| p.vertices.iter().map(|v| v.as_dvec3()))
-    };
-    let (lo, hi) = corners().fold(
-        (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)),
-        |(lo, hi), v| (lo.min(v), hi.max(v)),
-    );
-    let size = (hi - lo).length();
-    let newell: DVec3 = open.iter().map(|(a, b)| a.cross(*b)).sum();
-    let Some(up) = newell.try_normalize() else {
-        return false;
-    };
-    let p = open[0].0;
-    let tolerance = PLANE_TOLERANCE * size;
-    if open.iter().any(|(a, _)| up.dot(*a - p).abs() > tolerance) {
-        return false;
-    }
-    if volume - p.dot(newell) / 6.0 <= MIN_VOLUME * size.powi(3) {
-        return false;
-    }
-    // The cap's area centroid, from a fan about p (signed areas along +N).
-    let (mut weight, mut centroid) = (0.0, DVec3::ZERO);
-    for (a, b) in open {
-        let w = (*a - p).cross(*b - p).dot(up);
-        weight += w;
-        centroid += w * (p + *a + *b) / 3.0;
-    }
-    let mut probes: Vec<DVec3> = open
-        .iter()
-        .flat_map(|(a, b)| [*a, 0.5 * (*a + *b)])
-        .collect();
-    probes.push(centroid / weight);
-    let floor: Vec<(Vec<DVec3>, DVec3)> = scene
-        .polygons
-        .iter()
-        .filter(|q| q.object != o)
-        .filter_map(|q| {
-            let vs: Vec<DVec3> = q.vertices.iter().map(|v| v.as_dvec3()).collect();
-            let normal = model::polymesh::vector_area(&q.vertices)
-                .as_dvec3()
-                .try_normalize()?;
-            let facing = normal.dot(up);
-            let reflects = facing > 0.0 || scene.materials[q.material].two_sided;
-            let coplanar =
-                facing.abs() > 1.0 - 1e-6 && vs.iter().all(|v| up.dot(*v - p).abs() <= tolerance);
-            (reflects && coplanar).then_some((vs, normal))
+            .any(|(a, _)| up.dot(*a - origin).abs() > tolerance)
+            || volume - origin.dot(newell) / 6.0 <= MIN_VOLUME * size.powi(3)
+        {
+            return None;
+        }
+        // The cap's area centroid, from a fan about the origin (signed areas along +N).
+        let (mut weight, mut centroid) = (0.0, DVec3::ZERO);
+        for (a, b) in open {
+            let w = (*a - origin).cross(*b - origin).dot(up);
+            weight += w;
+            centroid += w * (origin + *a + *b) / 3.0;
+        }
+        let mut probes: Vec<DVec3> = open
+            .iter()
+            .flat_map(|(a, b)| [*a, 0.5 * (*a + *b)])
+            .collect();
+        probes.push(centroid / weight);
+        let (lo, hi) = probes.iter().fold(
+            (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        Some(Self {
+            object: o,
+            origin,
+            up,
+            tolerance,
+            covered: vec![false; probes.len()],
+            probes,
+            lo: lo - DVec3::splat(tolerance),
+            hi: hi + DVec3::splat(tolerance),
         })
-        .collect();
-    probes
-        .iter()
-        .all(|&x| floor.iter().any(|(vs, n)| covers(vs, *n, x, tolerance)))
+    }
 }
 
 /// Whether the planar polygon `vs` of unit normal `n` contains `x` (a point of its plane), or
