@@ -46,11 +46,17 @@ const OPEN_WITHIN: f32 = 2.0;
 /// element's pieces ([`split_piece`]), and each quarter again, down to [`SPLIT_DEPTH`] levels.
 /// Measured on the furnished room at 256² against Mitsuba 3 (default solver): the bright line
 /// along the crease of the window wall and the ceiling, +29 % at its worst pixel, is +16.5 %
-/// at one level and +15.2 % at three; the picture 0.95 → 0.80 / 0.79 %.
+/// at one level and +15.2 % at three; the picture 0.95 → 0.80 / 0.79 %, for a render stage
+/// 20 % / 35 % longer when every near piece is split; one level, steep pieces only
+/// ([`SPLIT_CHANGE`]): 0.80 %, 16 % longer (docs/raytracing.md).
 const SPLIT_WITHIN: f32 = 1.5;
 
 /// Levels of [`split_piece`] below a piece.
-const SPLIT_DEPTH: u32 = 3;
+const SPLIT_DEPTH: u32 = 1;
+
+/// A piece is split only where its element's slope changes B − E across it by more than this
+/// share of its value (a flat wall is not).
+const SPLIT_CHANGE: f64 = 0.05;
 
 /// Beyond this many face diameters, a near node's factor is the point kernel
 /// ([`near_factor`]).
@@ -228,7 +234,7 @@ impl NearField {
                                 };
                                 let near =
                                     piece.centroid.distance(*point) < SPLIT_WITHIN * piece.diameter;
-                                if near {
+                                if near && slope.steep(*value, piece.diameter) {
                                     let face = pieces(&node.face)[k];
                                     let (s, f) = split_piece(
                                         (&face, shape.normal),
@@ -330,6 +336,15 @@ impl Slope {
             [Rgb::ZERO; 2]
         };
         Self { axes, gradient }
+    }
+
+    /// Whether B − E changes along the slope by more than [`SPLIT_CHANGE`] of `value` (per
+    /// channel, its largest) across a piece of diameter `diameter`.
+    fn steep(&self, value: Rgb, diameter: f32) -> bool {
+        let across = (self.gradient[0].abs() + self.gradient[1].abs()) * f64::from(diameter);
+        across
+            .cmpgt(SPLIT_CHANGE * value.max(Rgb::splat(1e-12)))
+            .any()
     }
 
     /// The change of B − E from `from` to `to`.
