@@ -8,8 +8,11 @@
 //! radiosity, which stores links only where light moves: measured on the Cornell box with an
 //! 82k-triangle sphere, Gauss-Seidel refuses (25 GiB) while hierarchical solves in 15 s and
 //! 174 MB (docs/hierarchical.md). Hierarchical radiosity is not taken merely because a scene is
-//! large: on the reference suite it is 1–7 % off at its default ε where Gauss-Seidel is within
-//! 1 %.
+//! large: on the reference suite both are within 1 % per object at their defaults (worst
+//! +0.98 % against +0.92 %, docs/validation.md, fifteenth round), but the Gauss-Seidel
+//! solution's evaluated picture of the Cornell box is the closer one (0.71 % against 1.22 % at
+//! 256², docs/raytracing.md); on the furnished room it is the other way round (0.80 % against
+//! 0.42 %), which no rule here captures yet.
 //!
 //! The choice is made twice: before meshing, from the estimated element count (to skip the
 //! uniform subdivision when hierarchical radiosity will refine on its own), and after, from the
