@@ -30,6 +30,7 @@ use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
 
+use super::imprint::bounds;
 use crate::scene::coincident::exact_bits;
 use crate::Scene;
 
@@ -51,7 +52,7 @@ pub(super) fn enclosed_objects(scene: &Scene) -> Vec<bool> {
     let mut edges: Vec<HashMap<Edge, (i32, Vec3, Vec3)>> = vec![HashMap::new(); n];
     let mut volume = vec![0.0f64; n];
     let mut eligible = vec![true; n];
-    let mut bounds = vec![(DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)); n];
+    let mut extent = vec![(DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)); n];
     for polygon in &scene.polygons {
         let material = &scene.materials[polygon.material];
         let o = polygon.object;
@@ -63,7 +64,7 @@ pub(super) fn enclosed_objects(scene: &Scene) -> Vec<bool> {
             let (lo, hi, sign) = if ka < kb { (ka, kb, 1) } else { (kb, ka, -1) };
             let entry = edges[o].entry((lo, hi)).or_insert((0, a, b));
             *entry = (entry.0 + sign * 1000 + 1, a, b);
-            let (lo, hi) = &mut bounds[o];
+            let (lo, hi) = &mut extent[o];
             (*lo, *hi) = (lo.min(a.as_dvec3()), hi.max(a.as_dvec3()));
         }
         let a = vs[0].as_dvec3();
@@ -97,16 +98,13 @@ pub(super) fn enclosed_objects(scene: &Scene) -> Vec<bool> {
         }
         open.sort_unstable_by_key(|e| *e.0);
         let open: Vec<(DVec3, DVec3)> = open.into_iter().map(|(_, a, b)| (a, b)).collect();
-        let size = (bounds[o].1 - bounds[o].0).length();
+        let size = (extent[o].1 - extent[o].0).length();
         footprints.extend(Footprint::new(o, volume[o], &open, size));
     }
     // One pass over the polygons for every footprint: which of its probes some reflecting
     // polygon of another object in its plane covers.
     for q in &scene.polygons {
-        let (lo, hi) = q.vertices.iter().fold(
-            (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)),
-            |(lo, hi), v| (lo.min(v.as_dvec3()), hi.max(v.as_dvec3())),
-        );
+        let (lo, hi) = bounds(q.vertices.iter().copied());
         let two_sided = scene.materials[q.material].two_sided;
         for f in &mut footprints {
             if q.object == f.object

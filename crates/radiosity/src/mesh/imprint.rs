@@ -149,7 +149,7 @@ fn outline(polygon: usize, vertices: &[Vec3], large: f64) -> Option<Outline> {
 }
 
 /// The bounding box of some points, in `f64`.
-fn bounds(points: impl Iterator<Item = Vec3>) -> (DVec3, DVec3) {
+pub(super) fn bounds(points: impl Iterator<Item = Vec3>) -> (DVec3, DVec3) {
     points.fold(
         (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
         |(lo, hi), p| (lo.min(p.as_dvec3()), hi.max(p.as_dvec3())),

@@ -356,12 +356,12 @@ impl Slope {
 }
 
 /// The near part Σ F (B − E) and Σ F that `point` gets from `face`, a piece of mean B − E
-/// `value` (patch normal `front`), split into its four quarters with values along `slope` (each quarter's value
-/// shifted by the slope from the face's centroid to its own, at least zero; the shifts of the
-/// four quarters cancel, so the face keeps its mean), `depth` more times where the point is
-/// within [`SPLIT_WITHIN`] of a quarter's diameter. Next to a crease the light of the surface
-/// across it changes fast (the ceiling lit by a window below it: nothing at the wall, the
-/// most 30 cm off), and a wall point within a few centimetres of the ceiling weighs the
+/// `value` (patch normal `front`), split into its four quarters with values along `slope`
+/// (each quarter's value shifted by the slope from the face's centroid to its own, at least
+/// zero; the shifts of the four quarters cancel, so the face keeps its mean), and split again,
+/// `depth` more times, where the point is within [`SPLIT_WITHIN`] of a quarter's diameter.
+/// Next to a crease the light of the surface across it changes fast (the ceiling lit by a
+/// window below it: nothing at the wall, the most 30 cm off), and a wall point within a few centimetres of the ceiling weighs the
 /// ceiling's first centimetres the most: a constant value per piece showed a bright band along
 /// the crease.
 fn split_piece(
@@ -478,10 +478,6 @@ mod tests {
         // point kernel, within a few per cent of Lambert's factor.
         let whole = factor(&face);
         assert!((share - whole).abs() < 0.02 * whole, "{share} vs {whole}");
-        println!(
-            "exact {exact} constant {constant} split {} share {share}",
-            split.x
-        );
         let error = (split.x - exact).abs() / exact;
         assert!(
             error < 0.25 * (constant - exact) / exact,
