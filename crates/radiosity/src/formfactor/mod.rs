@@ -345,7 +345,13 @@ pub(crate) fn pair_unoccluded(g: &Geometry, receiver: &Receiver, e: usize, s: us
 /// The side of element `e`'s receiver grid: `n`, or [`NEAR_REFINEMENT`] times more in the
 /// near field of another surface ([`crate::mesh::Node::near`]).
 fn grid(g: &Geometry, e: usize, n: u32) -> u32 {
-    if g.mesh.element(e).near {
+    node_grid(g.mesh.element(e), n)
+}
+
+/// The side of the integration grid over quadtree node `node`: `n`, or [`NEAR_REFINEMENT`]
+/// times more in the near field of another surface.
+pub(crate) fn node_grid(node: &crate::mesh::Node, n: u32) -> u32 {
+    if node.near {
         n * NEAR_REFINEMENT
     } else {
         n

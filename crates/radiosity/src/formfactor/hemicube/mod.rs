@@ -36,7 +36,12 @@
 //! - **Near neighbours.** A hemicube measures from one point, which is good only while the
 //!   distance is large against the element's size; at a shared edge the centroid's view can
 //!   be off by tens of percent. So the receiver is integrated like in the other methods: one
-//!   hemicube at each of its n × n quadrature points (`quadrature`), weighted by area. And in
+//!   hemicube at each of its n × n quadrature points (`quadrature`), weighted by area, and
+//!   twice as many along each side where another surface is near (`Node::near`, as ray casting
+//!   refines its grid): with one grid everywhere the furnished room's window, whose light the
+//!   walls beside it see edge-on, gave the elements 1.0022 times its area in a column sum that
+//!   should be 1 (ray casting 1.0005), and the room absorbed 1.0019 times what it emits;
+//!   with the finer grid 1.0011 and 1.0014. And in
 //!   each hemicube, sources whose centre lies within `near` × the mean of the two diameters
 //!   ([`DEFAULT_NEAR`]) get Lambert's exact point-to-polygon factor
 //!   ([`super::analytic::point_to_polygon`]) times the fraction of the source's cells that the
@@ -65,7 +70,7 @@ use rayon::prelude::*;
 
 use self::raster::{rasterize, FaceBuffer, Layout, Polygon, FACES, NOTHING};
 use super::analytic::point_to_polygon;
-use super::{FormFactors, Geometry, Receiver};
+use super::{node_grid, FormFactors, Geometry, Receiver};
 use crate::hash::mix;
 use crate::mesh::Face;
 
@@ -421,21 +426,21 @@ fn sources_of<'g>(g: &Geometry<'g>) -> (usize, impl Fn(usize) -> (&'g Face, u32)
 }
 
 impl Hemicube {
-    /// Σ_k w_k F(x_k → item) over hemicubes at the quadrature points x_k of `face` (of patch
-    /// `patch`), drawing `candidates`; the near items of each hemicube get Lambert's exact
+    /// Σ_k w_k F(x_k → item) over hemicubes at the `quadrature` × `quadrature` points x_k of
+    /// `face` (of patch `patch`), drawing `candidates`; the near items of each hemicube get Lambert's exact
     /// point-to-polygon factor times their visible fraction. Leaves the sums in `scratch.total`.
     fn integrate<'g>(
         &self,
         g: &Geometry<'g>,
-        (face, patch, key): (&Face, u32, [usize; 2]),
+        (face, patch, key, quadrature): (&Face, u32, [usize; 2], u32),
         candidates: (usize, impl Fn(usize) -> (&'g Face, u32) + Copy),
         scratch: &mut Scratch,
         parallel: bool,
     ) {
         let normal = face.normal();
         let mut receiver = std::mem::take(&mut scratch.receiver);
-        receiver.set(face, self.quadrature);
-        let size = face.diameter() / self.quadrature as f32;
+        receiver.set(face, quadrature);
+        let size = face.diameter() / quadrature as f32;
         scratch.total.clear();
         scratch.total.resize(candidates.0, 0.0);
         for (k, &(x, weight)) in receiver.points.iter().enumerate() {
@@ -462,7 +467,8 @@ impl FormFactors for Hemicube {
     fn row(&self, g: &Geometry, element: usize, out: &mut [f32]) {
         let node = g.mesh.element(element);
         with_scratch(|scratch| {
-            let receiver = (&node.face, node.patch, [0, element]);
+            let quadrature = node_grid(node, self.quadrature);
+            let receiver = (&node.face, node.patch, [0, element], quadrature);
             self.integrate(g, receiver, sources_of(g), scratch, false);
             for (o, &f) in out.iter_mut().zip(&scratch.total) {
                 *o = f as f32;
@@ -479,7 +485,8 @@ impl FormFactors for Hemicube {
             (&n.face, n.patch)
         });
         with_scratch(|scratch| {
-            let shooter = (&node.face, node.patch, [1, source]);
+            let quadrature = node_grid(node, self.quadrature);
+            let shooter = (&node.face, node.patch, [1, source], quadrature);
             self.integrate(g, shooter, elements, scratch, true);
             // Reciprocity: F_{e→s} = A_s F_{s→e} / A_e.
             for (e, (o, &f)) in out.iter_mut().zip(&scratch.total).enumerate() {
