@@ -31,6 +31,9 @@ use crate::Rgb;
 /// smoothly, while a box's 90° edges stay sharp.
 const SMOOTHING_ANGLE_DEG: f32 = 40.0;
 
+/// Surfaces meeting at less than this angle are one plane, for [`lit_mesh_faceted`].
+const FACET_ANGLE_DEG: f32 = 1.0;
+
 /// Where a vertex is, for smoothing: object, side (back?) and quantized position.
 type Place = (u32, bool, IVec3);
 
@@ -47,7 +50,7 @@ const MAX_EDGE_DEPTH: u32 = 16;
 /// If `radiosity.len() != mesh.element_count()`.
 #[must_use]
 pub fn lit_mesh(mesh: &Mesh, radiosity: &[Rgb]) -> LitMesh {
-    build(mesh, radiosity).lit
+    build(mesh, radiosity, SMOOTHING_ANGLE_DEG).lit
 }
 
 /// The lit mesh of [`lit_mesh`] with the vertices on the borders of its surfaces extrapolated
@@ -57,7 +60,21 @@ pub fn lit_mesh(mesh: &Mesh, radiosity: &[Rgb]) -> LitMesh {
 /// If `radiosity.len() != mesh.element_count()`.
 #[must_use]
 pub fn lit_mesh_extrapolating_borders(mesh: &Mesh, radiosity: &[Rgb]) -> LitMesh {
-    let mut built = build(mesh, radiosity);
+    let mut built = build(mesh, radiosity, SMOOTHING_ANGLE_DEG);
+    built.extrapolate_borders(mesh, radiosity);
+    built.lit
+}
+
+/// The lit mesh of [`lit_mesh_extrapolating_borders`] with values shared only between surfaces
+/// in one plane ([`FACET_ANGLE_DEG`]), not across the smoothing angle: each facet of a
+/// tessellated surface keeps its own light, as a path tracer shows a mesh without shading
+/// normals. The same vertices and triangles.
+///
+/// # Panics
+/// If `radiosity.len() != mesh.element_count()`.
+#[must_use]
+pub fn lit_mesh_faceted(mesh: &Mesh, radiosity: &[Rgb]) -> LitMesh {
+    let mut built = build(mesh, radiosity, FACET_ANGLE_DEG);
     built.extrapolate_borders(mesh, radiosity);
     built.lit
 }
@@ -71,6 +88,8 @@ struct Built {
     /// normals within the smoothing angle share their values).
     place: Vec<Place>,
     normal: Vec<Vec3>,
+    /// Cosine of the angle within which vertices of one place share their values.
+    smooth: f32,
 }
 
 /// Passes of [`Built::extrapolate_borders`]. Measured on the evaluated 256² pictures against
@@ -96,7 +115,7 @@ impl Built {
     /// picture 1.12 → 1.20 % after one pass on every vertex).
     fn extrapolate_borders(&mut self, mesh: &Mesh, radiosity: &[Rgb]) {
         let corners = self.place.len();
-        let smooth = SMOOTHING_ANGLE_DEG.to_radians().cos();
+        let smooth = self.smooth;
         let mut by_place: HashMap<Place, Vec<u32>> = HashMap::new();
         for (v, place) in self.place.iter().enumerate() {
             by_place.entry(*place).or_default().push(v as u32);
@@ -154,7 +173,8 @@ impl Built {
     }
 }
 
-fn build(mesh: &Mesh, radiosity: &[Rgb]) -> Built {
+/// The lit mesh with vertices of one place sharing their values within `angle` degrees.
+fn build(mesh: &Mesh, radiosity: &[Rgb], angle: f32) -> Built {
     assert_eq!(radiosity.len(), mesh.element_count());
     let key = VertexKey::new(mesh);
     let surfaces = surfaces(mesh);
@@ -187,7 +207,7 @@ fn build(mesh: &Mesh, radiosity: &[Rgb]) -> Built {
                 .push((patch.normal, area, area * radiosity[e]));
         }
     }
-    let smooth = SMOOTHING_ANGLE_DEG.to_radians().cos();
+    let smooth = angle.to_radians().cos();
     lit.radiosity = vertex_place
         .iter()
         .zip(&vertex_normal)
@@ -262,6 +282,7 @@ fn build(mesh: &Mesh, radiosity: &[Rgb]) -> Built {
         rings,
         place: vertex_place,
         normal: vertex_normal,
+        smooth,
     }
 }
 
@@ -512,6 +533,36 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn faceted_lit_mesh_keeps_each_facets_light_within_the_smoothing_angle() {
+        // Two squares at 20°, within the smoothing angle: the smooth lit mesh averages them on
+        // the hinge (2), the faceted one keeps 1 and 3 (uniform on each, so the extrapolated
+        // border vertices are the element means).
+        let mesh = Mesh::build(&hinge(20.0), Subdivision::Elements(2));
+        let b: Vec<Rgb> = (0..mesh.element_count())
+            .map(|e| Rgb::splat(if mesh.element(e).patch == 0 { 1.0 } else { 3.0 }))
+            .collect();
+        let smooth = lit_mesh_extrapolating_borders(&mesh, &b);
+        let faceted = lit_mesh_faceted(&mesh, &b);
+        assert_eq!(faceted.positions, smooth.positions);
+        assert_eq!(faceted.triangles, smooth.triangles);
+        for (t, tri) in faceted.triangles.iter().enumerate() {
+            let want = if faceted.triangle_patch[t] == 0 {
+                1.0
+            } else {
+                3.0
+            };
+            for &v in tri {
+                let got = faceted.radiosity[v as usize].x;
+                assert!(
+                    (got - want).abs() < 1e-9,
+                    "triangle {t}: {got} instead of {want}"
+                );
+            }
+        }
+        assert!(smooth.radiosity.iter().any(|b| (b.x - 2.0).abs() < 1e-6));
     }
 
     #[test]

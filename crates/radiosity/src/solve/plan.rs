@@ -7,12 +7,17 @@
 //! never fewer than the root faces). When it does not, the automatic choice takes hierarchical
 //! radiosity, which stores links only where light moves: measured on the Cornell box with an
 //! 82k-triangle sphere, Gauss-Seidel refuses (25 GiB) while hierarchical solves in 15 s and
-//! 174 MB (docs/hierarchical.md). Hierarchical radiosity is not taken merely because a scene is
-//! large: on the reference suite both are within 1 % per object at their defaults (worst
-//! +0.98 % against +0.92 %, docs/validation.md, fifteenth round), but the Gauss-Seidel
-//! solution's evaluated picture of the Cornell box is the closer one (0.71 % against 1.22 % at
-//! 256², docs/raytracing.md); on the furnished room it is the other way round (0.80 % against
-//! 0.42 %), which no rule here captures yet.
+//! 174 MB (docs/hierarchical.md). It also takes hierarchical radiosity when the uniform
+//! subdivision would spread its elements thin: [`MANY_ROOTS`] root faces or more with fewer
+//! than [`MIN_ELEMENTS_PER_ROOT`] elements each (furniture, tessellated meshes), where a few
+//! elements per face cannot follow the light along contacts and shadows and hierarchical
+//! radiosity refines where the light asks. Measured at 256² against Mitsuba 3
+//! (docs/raytracing.md): the furnished room (508 faces, 7 576 elements, 15 per face)
+//! 0.80 % with Gauss-Seidel against 0.42 % hierarchical; the closed-mesh scene (2 889 faces)
+//! 7.1 % against 7.0 %, in its interior 0.2–0.5 % both; the Cornell box (20 faces, 6 082
+//! elements) stays with Gauss-Seidel, 0.71 % against 1.22 %. Both are within 1 % per object
+//! on the reference suite at their defaults (worst +0.98 % against +0.92 %,
+//! docs/validation.md).
 //!
 //! The choice is made twice: before meshing, from the estimated element count (to skip the
 //! uniform subdivision when hierarchical radiosity will refine on its own), and after, from the
@@ -30,6 +35,14 @@ use super::Method;
 /// box's object means stay within 1 % of the element-to-element solution (3792 elements; 256
 /// sources are 3 % off).
 pub const MIN_GATHER_SOURCES: usize = 1024;
+
+/// Fewest elements per root face for which the automatic choice subdivides a scene of
+/// [`MANY_ROOTS`] root faces or more uniformly; below it, hierarchical radiosity (module docs).
+pub const MIN_ELEMENTS_PER_ROOT: f64 = 16.0;
+
+/// Scenes with fewer root faces are subdivided whatever their element budget (a box of a few
+/// walls at a few hundred elements is no furnished room).
+pub const MANY_ROOTS: usize = 64;
 
 /// What the choice is made from.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -65,6 +78,12 @@ pub enum Choice {
     },
 }
 
+/// Whether the uniform subdivision spreads the elements too thin: many root faces, and fewer
+/// than [`MIN_ELEMENTS_PER_ROOT`] elements for each.
+fn thin(p: &Problem) -> bool {
+    p.roots >= MANY_ROOTS && p.elements < MIN_ELEMENTS_PER_ROOT * p.roots as f64
+}
+
 /// The solver and sources for `p`: see the module documentation.
 #[must_use]
 pub fn plan(p: &Problem) -> Choice {
@@ -83,6 +102,7 @@ pub fn plan(p: &Problem) -> Choice {
     let method = match p.requested {
         Some(Method::Hierarchical) => return Choice::Hierarchical,
         Some(method) => method,
+        None if !p.meshed && thin(p) => return Choice::Hierarchical,
         None if enough => Method::GaussSeidel,
         None if !p.meshed => return Choice::Hierarchical,
         None => Method::Progressive,
@@ -177,13 +197,31 @@ mod tests {
     }
 
     #[test]
+    fn hierarchical_when_the_elements_are_spread_thin_over_many_root_faces() {
+        // The furnished room: 508 root faces, about 4 096 elements (8 per face).
+        let mut p = problem(None, 4096.0, false, GIB);
+        p.roots = 508;
+        assert_eq!(plan(&p), Choice::Hierarchical);
+        // At 16 000 elements (31 per face) it is subdivided,
+        p.elements = 16_000.0;
+        assert!(matches!(plan(&p), Choice::Subdivided { .. }));
+        // as is a box of 20 faces at 200 elements, and a solver the user names.
+        let mut few = problem(None, 200.0, false, GIB);
+        few.roots = 20;
+        assert!(matches!(plan(&few), Choice::Subdivided { .. }));
+        p.elements = 4096.0;
+        p.requested = Some(Method::GaussSeidel);
+        assert!(matches!(plan(&p), Choice::Subdivided { .. }));
+    }
+
+    #[test]
     fn never_fewer_sources_than_root_faces() {
-        // 5 000 root faces, 20 000 elements: 1 024 sources would fit in 80 MB, but a cut holds
-        // at least every root face, so gathering needs 400 MB.
-        let mut p = problem(None, 20_000.0, false, 100 << 20);
+        // 5 000 root faces, 100 000 elements (20 per face): 1 024 sources would fit in
+        // 400 MB, but a cut holds at least every root face, so gathering needs 2 GB.
+        let mut p = problem(None, 100_000.0, false, 400 << 20);
         p.roots = 5000;
         assert_eq!(plan(&p), Choice::Hierarchical);
-        p.matrix_bytes = 400 << 20;
+        p.matrix_bytes = 2000 << 20;
         assert!(matches!(plan(&p), Choice::Subdivided { .. }));
     }
 }

@@ -36,13 +36,13 @@
 //! - **Near neighbours.** A hemicube measures from one point, which is good only while the
 //!   distance is large against the element's size; at a shared edge the centroid's view can
 //!   be off by tens of percent. So the receiver is integrated like in the other methods: one
-//!   hemicube at each of its n × n quadrature points (`quadrature`), weighted by area, and
-//!   twice as many along each side where another surface is near (`Node::near`, as ray casting
-//!   refines its grid): with one grid everywhere the furnished room's window, whose light the
-//!   walls beside it see edge-on, gave the elements 1.0022 times its area in a column sum that
-//!   should be 1 (ray casting 1.0005), and the room absorbed 1.0019 times what it emits;
-//!   with the finer grid 1.0011 and 1.0014. And in
-//!   each hemicube, sources whose centre lies within `near` × the mean of the two diameters
+//!   hemicube at each of its n × n quadrature points (`quadrature`), weighted by area, and for
+//!   a row's receiver twice as many along each side where another surface is near
+//!   (`Node::near`, as ray casting refines its grid): with one grid everywhere, the furnished
+//!   room's window, whose light the walls beside it see edge-on, gave the elements 1.0022
+//!   times its area in a column sum that should be 1 (ray casting 1.0005), and the room
+//!   absorbed 1.0019 times what it emits; with the finer grid 1.0011 and 1.0014. And in each
+//!   hemicube, sources whose centre lies within `near` × the mean of the two diameters
 //!   ([`DEFAULT_NEAR`]) get Lambert's exact point-to-polygon factor
 //!   ([`super::analytic::point_to_polygon`]) times the fraction of the source's cells that the
 //!   z-buffer left visible, instead of the cell count. So the row stays consistent, the far
@@ -485,8 +485,9 @@ impl FormFactors for Hemicube {
             (&n.face, n.patch)
         });
         with_scratch(|scratch| {
-            let quadrature = node_grid(node, self.quadrature);
-            let shooter = (&node.face, node.patch, [1, source], quadrature);
+            // The shooter's own grid (refined near another surface, it made progressive
+            // refinement of the bare OBJ room three times longer for the same floor, +39 %).
+            let shooter = (&node.face, node.patch, [1, source], self.quadrature);
             self.integrate(g, shooter, elements, scratch, true);
             // Reciprocity: F_{e→s} = A_s F_{s→e} / A_e.
             for (e, (o, &f)) in out.iter_mut().zip(&scratch.total).enumerate() {

@@ -167,7 +167,10 @@ const EDGE_SIDE: u32 = 16;
 /// rays, the near field) runs once per pixel and surface side, at the mean of the rays that
 /// hit it; each ray adds its own interpolated far part and emission. Edges get the coverage of
 /// all the pixel's samples (a path tracer's box-filtered edges take hundreds) at the cost of
-/// about one evaluation per pixel. Mirrors and glass are traced ray by ray.
+/// about one evaluation per pixel. Mirrors and glass are traced ray by ray. The diffuse light
+/// is evaluated with the facet's own normal, not the interpolated shading normal: the solution
+/// lit the facets as they are, and a path tracer shows a mesh without shading normals so (the
+/// closed-mesh scene's blob: 8.2 → 7.1 % against Mitsuba 3, the blob itself within 0.5 %).
 fn render_evaluated(
     tracer: &Tracer,
     evaluation: &Evaluation,
@@ -201,14 +204,14 @@ fn render_evaluated(
             {
                 Some(g) => {
                     g.point += hit.point;
-                    g.normal += hit.shading;
+                    g.normal += hit.normal;
                     g.rays.push((d, emitted));
                 }
                 None => groups.push(Coverage {
                     patch,
                     front: hit.front,
                     point: hit.point,
-                    normal: hit.shading,
+                    normal: hit.normal,
                     sampler,
                     rays: vec![(d, emitted)],
                 }),

@@ -60,9 +60,13 @@
 //! render stage of 1.4 s instead of 3.1 s and 3.1 s instead of 9.7 s.
 //!
 //! R is interpolated over the lit mesh with its border vertices extrapolated, not averaged
-//! ([`display::lit_mesh_extrapolating_borders`]): R falls towards an open edge (the front of
-//! the Cornell box) and into creases, and the averaged border vertices showed the border strips
-//! 4–14 % too bright (Cornell box 1.41 → 0.98 % at 256², docs/raytracing.md).
+//! ([`display::lit_mesh_faceted`]): R falls towards an open edge (the front of the Cornell
+//! box) and into creases, and the averaged border vertices showed the border strips 4–14 %
+//! too bright (Cornell box 1.41 → 0.98 % at 256², docs/raytracing.md). Its values are shared
+//! only within a plane, not across the smoothing angle of the exported lit mesh: each facet of
+//! a tessellated surface gathers its own indirect light, and smoothed over its neighbours the
+//! shaded half of the closed-mesh scene's blob came out as one smooth gradient where Mitsuba 3
+//! shows its facets (the blob's blocks 12 → 0.5 %).
 //!
 //! The solve stays viewer-independent; only the picture is evaluated per point. Mirrors and
 //! glass are traced as by [`super::render`].
@@ -151,7 +155,7 @@ impl Evaluation {
         let first: Vec<Option<Far>> = first.iter().map(|f| (!f.by_pieces).then_some(*f)).collect();
         let split = far_radiosity(mesh, solution, &self.near, &direct, Some(&first));
         let scale: Vec<Rgb> = split.iter().map(|f| f.scale).collect();
-        self.scale = display::lit_mesh(mesh, &scale).radiosity;
+        self.scale = display::lit_mesh_faceted(mesh, &scale).radiosity;
         split.iter().map(|f| f.far).collect()
     }
 }
@@ -195,7 +199,7 @@ fn prepare(
     let world = World::new(scene, mesh, &full);
     let reflected = solution.reflected_irradiance.as_deref();
     let far = evaluation.settle(&world, mesh, (radiosity, reflected), samples);
-    let lit = display::lit_mesh_extrapolating_borders(mesh, &far);
+    let lit = display::lit_mesh_faceted(mesh, &far);
     (evaluation, full, lit)
 }
 
