@@ -216,6 +216,9 @@ impl NearField {
                 open.push(cut);
                 while let Some(n) = open.pop() {
                     let shape = &self.shapes[n as usize];
+                    if !in_front(shape, *point) {
+                        continue;
+                    }
                     let node = &mesh.nodes[n as usize];
                     let opened = shape.centroid.distance(*point) < OPEN_WITHIN * shape.diameter;
                     match node.children {
@@ -394,6 +397,14 @@ fn pieces(face: &Face) -> [Face; PIECES] {
     face.split()
 }
 
+/// Whether `point` lies in front of the plane of a face of shape `shape`. A face whose plane
+/// holds the point (the point's own surface) or turns away from it sends it nothing, and no
+/// more do its children, in the same plane: such nodes are neither opened nor summed (their
+/// terms were zeros, or within rounding of zero for a point on the plane).
+fn in_front(shape: &Shape, point: Vec3) -> bool {
+    shape.normal.dot(point - shape.centroid) > 1e-5 * shape.diameter
+}
+
 /// The form factor from `point` (unit normal `normal`) to a face (shape `shape`): Lambert's
 /// exact factor within [`EXACT_WITHIN`] diameters of the face (which `face` then gives), the
 /// point-to-area kernel A cosθ cosθ' / (π r²) beyond, where it is within a few per cent of it
@@ -419,6 +430,26 @@ mod tests {
     /// The unit square in z = 0, facing +z.
     fn square() -> Face {
         Face::quad(Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y)
+    }
+
+    #[test]
+    fn only_faces_turned_to_the_point_are_visited_and_they_alone_send_light() {
+        let face = square();
+        let shape = Shape::of(&face, Vec3::Z);
+        let corners = face.corners_f64();
+        let f = |p: Vec3, n: Vec3| {
+            point_to_polygon(p.as_dvec3(), n.as_dvec3(), &corners.0[..corners.1])
+        };
+        // On the face's plane (its own surface), behind it, and in front of it.
+        for (p, n, front) in [
+            (Vec3::new(2.0, 0.5, 0.0), Vec3::Z, false),
+            (Vec3::new(1.5, 0.5, 0.0), -Vec3::X, false),
+            (Vec3::new(0.5, 0.5, -1.0), -Vec3::Z, false),
+            (Vec3::new(1.5, 0.5, 0.5), -Vec3::X, true),
+        ] {
+            assert_eq!(in_front(&shape, p), front, "{p}");
+            assert_eq!(f(p, n) > 0.0, front, "{p}: {}", f(p, n));
+        }
     }
 
     #[test]
