@@ -78,7 +78,7 @@ mod near_field;
 use glam::Vec3;
 use rayon::prelude::*;
 
-use self::luminaires::Luminaires;
+use self::luminaires::{Luminaires, PENUMBRA_REFINE, PIECE_PENUMBRA_REFINE};
 use self::near_field::{NearField, PIECES};
 use super::sample::Sampler;
 use super::world::World;
@@ -118,9 +118,9 @@ impl Evaluation {
         sampler: &mut Sampler,
     ) -> (Rgb, f64) {
         let rho = mesh.patches[patch as usize].reflectance;
-        let direct = self
-            .luminaires
-            .irradiance(world, point, normal, samples, sampler);
+        let direct =
+            self.luminaires
+                .irradiance(world, point, normal, (samples, PENUMBRA_REFINE), sampler);
         let (near, share, _) = self.near.irradiance(mesh, point, normal, patch);
         let scale = world.interpolated(&self.scale, at);
         (rho * (direct + scale * near), share)
@@ -143,9 +143,13 @@ impl Evaluation {
                 let mut sampler = Sampler::new(e as u32, u32::MAX, 0);
                 self.near.pieces[e].centroids.map(|x| {
                     patch.reflectance
-                        * self
-                            .luminaires
-                            .irradiance(world, x, patch.normal, samples, &mut sampler)
+                        * self.luminaires.irradiance(
+                            world,
+                            x,
+                            patch.normal,
+                            (samples, PIECE_PENUMBRA_REFINE),
+                            &mut sampler,
+                        )
                 })
             })
             .collect();
