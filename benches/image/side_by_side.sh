@@ -55,6 +55,7 @@ ours radiosity "--mode radiosity" --mode radiosity
 ours final "--mode final" --mode final
 ours quality-final "--quality final" --quality final
 ours hierarchical "--solver hierarchical" --solver hierarchical
+ours gauss-seidel "--solver gauss-seidel" --solver gauss-seidel
 for spp in 4 16 64 256; do
   for dn in "" --denoise; do
     f="$out/cycles-$spp${dn:+-dn}.exr"
@@ -73,7 +74,7 @@ for spp in 16 32 64 128 256 512; do
 done
 echo
 echo "Our stages (seconds, from --stats):"
-for name in radiosity final quality-final hierarchical; do
+for name in radiosity final quality-final hierarchical gauss-seidel; do
   "$PY" -c 'import json, sys
 t = json.load(open(sys.argv[1]))["timings"]
 print(f"- {sys.argv[2]}: " + ", ".join(f"{k} {v:.2f}" for k, v in t.items()))' \

@@ -100,14 +100,16 @@ pub struct HemicubeArgs {
     pub sources: Option<u64>,
 }
 
-/// `--quality`: presets of the subdivision, measured on the evaluated picture (`render`, 256²,
-/// against Mitsuba 3's, 4 × 4-pixel blocks; docs/raytracing.md).
+/// `--quality`: presets of the subdivision and of hierarchical radiosity's ε, measured on the
+/// evaluated picture (`render`, 256², against Mitsuba 3's, 4 × 4-pixel blocks, 5 December;
+/// docs/raytracing.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Quality {
-    /// About 4 096 elements: the Cornell box 1.40 %, the furnished room 1.24 %, in 7 and 12 s.
+    /// About 4 096 elements, or ε = 10⁻⁴ where hierarchical radiosity is chosen: the Cornell
+    /// box 0.71 % in 7 s, the furnished room 0.43 % in 14 s.
     Default,
-    /// About 16 000 elements: the Cornell box 0.92 % (its reference's own noise is 0.56 %),
-    /// the furnished room 0.88 %, in about 31 and 42 s.
+    /// About 16 000 elements, or ε = 3·10⁻⁵: the Cornell box 0.49 % in 31 s (its reference's
+    /// own noise is 0.21 %), the furnished room 0.30 % in 28 s (0.15 %).
     Final,
 }
 
@@ -367,7 +369,8 @@ pub struct MeshArgs {
     /// Cornell box little and costs the furnished room twice the time (docs/validation.md)
     #[arg(long)]
     pub discontinuity_meshing: bool,
-    /// How fine a mesh to solve on when --elements and --max-element-area are not given.
+    /// How fine a mesh to solve on when --elements and --max-element-area are not given (and
+    /// hierarchical radiosity's ε when --epsilon is not).
     #[arg(long, value_enum, default_value_t = Quality::Default)]
     pub quality: Quality,
 }
