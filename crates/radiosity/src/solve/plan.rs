@@ -12,12 +12,13 @@
 //! than [`MIN_ELEMENTS_PER_ROOT`] elements each (furniture, tessellated meshes), where a few
 //! elements per face cannot follow the light along contacts and shadows and hierarchical
 //! radiosity refines where the light asks. Measured at 256² against Mitsuba 3
-//! (docs/raytracing.md): the furnished room (508 faces, 7 576 elements, 15 per face)
-//! 0.80 % with Gauss-Seidel against 0.42 % hierarchical; the closed-mesh scene (2 889 faces)
-//! 7.1 % against 7.0 %, in its interior 0.2–0.5 % both; the Cornell box (20 faces, 6 082
-//! elements) stays with Gauss-Seidel, 0.71 % against 1.22 %. Both are within 1 % per object
-//! on the reference suite at their defaults (worst +0.98 % against +0.92 %,
-//! docs/validation.md).
+//! (docs/raytracing.md): the furnished room (3 742 root faces, 1.5 elements each at the
+//! default budget) 0.80 % with Gauss-Seidel against 0.42 % hierarchical; the closed-mesh scene
+//! (2 895 root faces) 1.29 % against 0.98 % away from its rims; the Cornell box (28 root faces,
+//! 145 elements each) stays with Gauss-Seidel, 0.71 % against 1.22 %. The partitions of the
+//! suite (277 root faces, 12.7 each) go hierarchical too: worst object +0.77 % against
+//! +0.92 %. Both solvers are within 1 % per object on the reference suite at their defaults
+//! (docs/validation.md).
 //!
 //! The choice is made twice: before meshing, from the estimated element count (to skip the
 //! uniform subdivision when hierarchical radiosity will refine on its own), and after, from the
@@ -198,12 +199,12 @@ mod tests {
 
     #[test]
     fn hierarchical_when_the_elements_are_spread_thin_over_many_root_faces() {
-        // The furnished room: 508 root faces, about 4 096 elements (8 per face).
-        let mut p = problem(None, 4096.0, false, GIB);
-        p.roots = 508;
+        // The partitions: 277 root faces, about 3 508 elements (12.7 per face).
+        let mut p = problem(None, 3508.0, false, GIB);
+        p.roots = 277;
         assert_eq!(plan(&p), Choice::Hierarchical);
-        // At 16 000 elements (31 per face) it is subdivided,
-        p.elements = 16_000.0;
+        // At 13 348 elements (48 per face) they are subdivided,
+        p.elements = 13_348.0;
         assert!(matches!(plan(&p), Choice::Subdivided { .. }));
         // as is a box of 20 faces at 200 elements, and a solver the user names.
         let mut few = problem(None, 200.0, false, GIB);
