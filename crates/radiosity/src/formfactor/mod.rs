@@ -87,6 +87,14 @@ pub trait FormFactors: Sync {
     /// F from every element to source `source`, for shooting: `out[e] = F_{e→source}`.
     /// `out.len()` is the number of elements.
     fn column(&self, g: &Geometry, source: usize, out: &mut [f32]);
+
+    /// Whether a row sees only the sources it is given: then nothing else hides them, and a
+    /// row over a few sources must be computed among all the others to be occluded. False for
+    /// the methods that trace rays through the whole scene; true for the hemicube, whose
+    /// z-buffer draws only its candidates.
+    fn occluded_only_by_sources(&self) -> bool {
+        false
+    }
 }
 
 /// Names the variants of a method enum for the command line and stats: `ALL` (every method, in

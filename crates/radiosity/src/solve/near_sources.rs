@@ -133,15 +133,24 @@ pub(super) fn opened(
     } = scratch;
     cut.clear();
     shared.clear();
-    // `shared` holds the source each piece comes from.
+    // `shared` holds the source each piece comes from; the sources not opened go into the cut
+    // as occluders (`None`) for a method that sees nothing else: with the opened pieces alone,
+    // a hemicube saw the light unoccluded from every floor element of the bare OBJ room, the
+    // torus and the block included, and its floor came out 39 % too bright after one shot.
+    let occluders = ff.occluded_only_by_sources();
+    let mut opened = false;
     for (s, &node) in g.sources.iter().enumerate() {
         if at.opens(mesh, node) {
+            opened = true;
             let first = cut.len();
             open(mesh, &at, node, cut, shared);
             shared[first..].fill(Some(s as u32));
+        } else if occluders {
+            cut.push(node);
+            shared.push(None);
         }
     }
-    if cut.is_empty() {
+    if !opened {
         return;
     }
     values.clear();
@@ -196,5 +205,68 @@ fn open(mesh: &Mesh, at: &Receiver, node: u32, cut: &mut Vec<u32>, shared: &mut 
             cut.push(child);
             shared.push(None);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::accel::Bvh;
+    use crate::formfactor::hemicube::Hemicube;
+    use crate::mesh::Subdivision;
+    use crate::Scene;
+
+    /// A light over a floor and a small plate just under the light: the floor elements open
+    /// the light (large and near) but not the plate (small for its distance), which shades
+    /// them.
+    const SHADOW: &str = r#"
+[materials.grey]
+reflectance = 0.5
+[materials.light]
+reflectance = 0.0
+emission = 10.0
+[[objects]]
+name = "floor"
+material = "grey"
+shape = "polygon"
+vertices = [[-1, 0, 1], [1, 0, 1], [1, 0, -1], [-1, 0, -1]]
+[[objects]]
+name = "plate"
+material = "grey"
+shape = "polygon"
+vertices = [[-0.1, 0.8, 0.1], [0.1, 0.8, 0.1], [0.1, 0.8, -0.1], [-0.1, 0.8, -0.1]]
+[[objects]]
+name = "light"
+material = "light"
+shape = "polygon"
+vertices = [[-0.5, 1, -0.5], [0.5, 1, -0.5], [0.5, 1, 0.5], [-0.5, 1, 0.5]]
+"#;
+
+    #[test]
+    fn a_hemicube_opens_the_same_pieces_with_the_same_factors_for_shooting_as_for_gathering() {
+        // Progressive refinement's pieces (`opened`) are the gathering row's (`row`) to the
+        // bit: a hemicube sees only what it draws, so the sources that are not opened are
+        // drawn too, or the plate would not shade the floor. (Ray casting traces the whole
+        // scene either way; its jitter follows the index of the source in the cut, so its
+        // pieces agree only to its noise.)
+        let scene = Scene::from_toml_str(SHADOW, Path::new("shadow.toml")).unwrap();
+        let mesh = Mesh::build(&scene, Subdivision::Elements(300));
+        let bvh = Bvh::build(&mesh.triangles);
+        let sources = mesh.sources(24, 24);
+        let g = Geometry::new(&mesh, &bvh, &sources);
+        let ff = Hemicube::new(64, 2, 0);
+        let (mut compared, mut scratch) = (0, Scratch::default());
+        for e in 0..mesh.element_count() {
+            let (mut gathered, mut shot) = (Vec::new(), Vec::new());
+            let mut out = vec![0.0; sources.len()];
+            row(&g, &ff, e, &mut out, &mut gathered, &mut scratch);
+            opened(&g, &ff, e, &mut shot, &mut scratch);
+            let shot: Vec<Piece> = shot.into_iter().map(|(_, p)| p).collect();
+            assert_eq!(shot, gathered, "element {e}");
+            compared += shot.len();
+        }
+        assert!(compared > 100, "only {compared} pieces opened");
     }
 }

@@ -476,6 +476,10 @@ impl FormFactors for Hemicube {
         });
     }
 
+    fn occluded_only_by_sources(&self) -> bool {
+        true
+    }
+
     fn column(&self, g: &Geometry, source: usize, out: &mut [f32]) {
         let node = &g.mesh.nodes[g.sources[source] as usize];
         let source_area = node.face.area();
