@@ -464,7 +464,10 @@ vertices = [[0, 0, 0.5], [0, 1, 0.5], [0, 1, 1], [0, 0, 1]]
         0,
         2,
     );
-    println!("floor to upper strip: hemicube {hemicube:.7} (one grid {coarse:.7}), analytic {analytic:.7}, exact {exact:.7}");
+    println!(
+        "floor to upper strip: hemicube {hemicube:.7} (one grid {coarse:.7}), \
+         analytic {analytic:.7}, exact {exact:.7}"
+    );
     // Measured: the analytic rows +0.41 % (the receivers' midpoint rule at 40 elements; 0.13 %
     // at 300), the hemicube's within 0.01 % of them, on one grid 0.20 % above them.
     assert!(relative(analytic, exact) < 5e-3, "analytic {analytic}");

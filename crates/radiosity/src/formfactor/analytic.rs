@@ -268,6 +268,7 @@ pub fn point_to_parallel_rectangle_corner(a: f64, b: f64, distance: f64) -> f64 
 
 #[cfg(test)]
 mod tests {
+    use super::*;
 
     #[test]
     fn the_angle_is_atan2_to_within_1e_12() {
@@ -293,7 +294,6 @@ mod tests {
             );
         }
     }
-    use super::*;
 
     /// The unit square at height `z`, facing down (counter-clockwise seen from below).
     fn square_facing_down(z: f64) -> Vec<DVec3> {

@@ -61,10 +61,43 @@ impl Piece {
 pub(super) struct Scratch {
     /// The receiver's cut.
     cut: Vec<u32>,
-    /// For each node of the cut, the shared source it is, or `None` for an opened piece.
-    shared: Vec<Option<u32>>,
+    /// For each node of the cut, the source it belongs to and whether it is an opened piece
+    /// of it (or the source itself).
+    origin: Vec<(u32, bool)>,
     /// The row over the receiver's cut.
     values: Vec<f32>,
+}
+
+impl Scratch {
+    /// Fills the cut of receiver `at`: the pieces of the sources it opens, and, if
+    /// `unopened`, the other sources as they are. Whether any source is opened.
+    fn cut(&mut self, g: &Geometry, at: &Receiver, unopened: bool) -> bool {
+        self.cut.clear();
+        self.origin.clear();
+        let mut opened = false;
+        for (s, &node) in g.sources.iter().enumerate() {
+            let s = s as u32;
+            if at.opens(g.mesh, node) {
+                opened = true;
+                open(g.mesh, at, node, s, self);
+            } else if unopened {
+                self.cut.push(node);
+                self.origin.push((s, false));
+            }
+        }
+        opened
+    }
+
+    /// The form-factor method's row from `element` over the cut, into `values`.
+    fn row_over_cut(&mut self, g: &Geometry, ff: &dyn FormFactors, element: usize) {
+        self.values.clear();
+        self.values.resize(self.cut.len(), 0.0);
+        ff.row(
+            &Geometry::new(g.mesh, g.bvh, &self.cut),
+            element,
+            &mut self.values,
+        );
+    }
 }
 
 /// Row `element` of the matrix: F to every shared source into `out` (zero for a source it
@@ -77,38 +110,24 @@ pub(super) fn row(
     pieces: &mut Vec<Piece>,
     scratch: &mut Scratch,
 ) {
-    let mesh = g.mesh;
-    let at = Receiver::of(mesh, element);
-    let Scratch {
-        cut,
-        shared,
-        values,
-    } = scratch;
-    cut.clear();
-    shared.clear();
-    let mut opened = false;
-    for (s, &node) in g.sources.iter().enumerate() {
-        if at.opens(mesh, node) {
-            opened = true;
-            open(mesh, &at, node, cut, shared);
-        } else {
-            cut.push(node);
-            shared.push(Some(s as u32));
-        }
-    }
-    if !opened {
+    let at = Receiver::of(g.mesh, element);
+    if !scratch.cut(g, &at, true) {
         ff.row(g, element, out);
         return;
     }
-    values.clear();
-    values.resize(cut.len(), 0.0);
-    ff.row(&Geometry::new(mesh, g.bvh, cut), element, values);
+    scratch.row_over_cut(g, ff, element);
     out.fill(0.0);
-    for ((&node, &s), &f) in cut.iter().zip(shared.iter()).zip(values.iter()) {
-        match s {
-            Some(s) => out[s as usize] = f,
-            None if f != 0.0 => pieces.push(Piece::of(mesh, node, f)),
-            None => {}
+    let Scratch {
+        cut,
+        origin,
+        values,
+        ..
+    } = scratch;
+    for ((&node, &(s, piece)), &f) in cut.iter().zip(origin.iter()).zip(values.iter()) {
+        if !piece {
+            out[s as usize] = f;
+        } else if f != 0.0 {
+            pieces.push(Piece::of(g.mesh, node, f));
         }
     }
 }
@@ -116,7 +135,11 @@ pub(super) fn row(
 /// The sources that receiver `element` opens, for shooting: every opened piece of each, with
 /// its factor, appended to `out` as (source, piece) in source order. Progressive refinement
 /// shoots a source's pieces with their own unshot radiosity to the receivers that open it
-/// ([`super::progressive`]); the shared sources' factors are its column's.
+/// ([`super::progressive`]); the shared sources' factors are its column's. For a method that
+/// sees nothing but what it is given, the sources not opened go into the cut too, as
+/// occluders ([`FormFactors::occluded_only_by_sources`]): with the opened pieces alone, a
+/// hemicube saw the light unoccluded from every floor element of the bare OBJ room, the torus
+/// and the block included, and its floor came out 39 % too bright after one shot.
 pub(super) fn opened(
     g: &Geometry,
     ff: &dyn FormFactors,
@@ -124,41 +147,20 @@ pub(super) fn opened(
     out: &mut Vec<(u32, Piece)>,
     scratch: &mut Scratch,
 ) {
-    let mesh = g.mesh;
-    let at = Receiver::of(mesh, element);
-    let Scratch {
-        cut,
-        shared,
-        values,
-    } = scratch;
-    cut.clear();
-    shared.clear();
-    // `shared` holds the source each piece comes from; the sources not opened go into the cut
-    // as occluders (`None`) for a method that sees nothing else: with the opened pieces alone,
-    // a hemicube saw the light unoccluded from every floor element of the bare OBJ room, the
-    // torus and the block included, and its floor came out 39 % too bright after one shot.
-    let occluders = ff.occluded_only_by_sources();
-    let mut opened = false;
-    for (s, &node) in g.sources.iter().enumerate() {
-        if at.opens(mesh, node) {
-            opened = true;
-            let first = cut.len();
-            open(mesh, &at, node, cut, shared);
-            shared[first..].fill(Some(s as u32));
-        } else if occluders {
-            cut.push(node);
-            shared.push(None);
-        }
-    }
-    if !opened {
+    let at = Receiver::of(g.mesh, element);
+    if !scratch.cut(g, &at, ff.occluded_only_by_sources()) {
         return;
     }
-    values.clear();
-    values.resize(cut.len(), 0.0);
-    ff.row(&Geometry::new(mesh, g.bvh, cut), element, values);
-    for ((&node, &s), &f) in cut.iter().zip(shared.iter()).zip(values.iter()) {
-        if let (Some(s), true) = (s, f != 0.0) {
-            out.push((s, Piece::of(mesh, node, f)));
+    scratch.row_over_cut(g, ff, element);
+    let Scratch {
+        cut,
+        origin,
+        values,
+        ..
+    } = scratch;
+    for ((&node, &(s, piece)), &f) in cut.iter().zip(origin.iter()).zip(values.iter()) {
+        if piece && f != 0.0 {
+            out.push((s, Piece::of(g.mesh, node, f)));
         }
     }
 }
@@ -193,17 +195,18 @@ impl Receiver {
     }
 }
 
-/// Pushes the receiver's cut below the opened `node`: each child, or its own cut if opened.
-fn open(mesh: &Mesh, at: &Receiver, node: u32, cut: &mut Vec<u32>, shared: &mut Vec<Option<u32>>) {
+/// Pushes the receiver's cut below the opened `node` of source `source`: each child, or its
+/// own cut if opened.
+fn open(mesh: &Mesh, at: &Receiver, node: u32, source: u32, scratch: &mut Scratch) {
     let first = mesh.nodes[node as usize]
         .children
         .expect("opened nodes have children");
     for child in first..first + 4 {
         if at.opens(mesh, child) {
-            open(mesh, at, child, cut, shared);
+            open(mesh, at, child, source, scratch);
         } else {
-            cut.push(child);
-            shared.push(None);
+            scratch.cut.push(child);
+            scratch.origin.push((source, true));
         }
     }
 }

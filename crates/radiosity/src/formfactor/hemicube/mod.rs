@@ -427,8 +427,9 @@ fn sources_of<'g>(g: &Geometry<'g>) -> (usize, impl Fn(usize) -> (&'g Face, u32)
 
 impl Hemicube {
     /// Σ_k w_k F(x_k → item) over hemicubes at the `quadrature` × `quadrature` points x_k of
-    /// `face` (of patch `patch`), drawing `candidates`; the near items of each hemicube get Lambert's exact
-    /// point-to-polygon factor times their visible fraction. Leaves the sums in `scratch.total`.
+    /// `face` (of patch `patch`), drawing `candidates`; the near items of each hemicube get
+    /// Lambert's exact point-to-polygon factor times their visible fraction. Leaves the sums
+    /// in `scratch.total`.
     fn integrate<'g>(
         &self,
         g: &Geometry<'g>,
@@ -489,8 +490,9 @@ impl FormFactors for Hemicube {
             (&n.face, n.patch)
         });
         with_scratch(|scratch| {
-            // The shooter's own grid (refined near another surface, it made progressive
-            // refinement of the bare OBJ room three times longer for the same floor, +39 %).
+            // The shooter's own grid: refined near another surface as the rows' receivers
+            // are, it made progressive refinement three times longer on the bare OBJ room and
+            // moved the emitter facing a wall only from −3.43 to −3.06 %.
             let shooter = (&node.face, node.patch, [1, source], self.quadrature);
             self.integrate(g, shooter, elements, scratch, true);
             // Reciprocity: F_{e→s} = A_s F_{s→e} / A_e.

@@ -14,10 +14,10 @@ use crate::Rgb;
 /// at a point the eye sees: no visible grain in soft shadows.
 pub(super) const PENUMBRA_REFINE: u32 = 4;
 
-/// The same at the pieces of the elements, whose direct light enters the picture only through
-/// element means (the far part's B − E − ρ Ē_d, the pieces' values): half as fine. Measured at
-/// 256² against Mitsuba 3: the same errors to 0.01 points (furnished room 0.42 %, Cornell box
-/// 0.71 %) for a render stage 0.7 s and 0.2 s shorter.
+/// The same at the pieces of the elements, whose direct light enters the picture only
+/// through element means (the far part's B − E − ρ Ē_d, the pieces' values): half as fine.
+/// Measured at 256² against Mitsuba 3: the same errors to 0.01 points (furnished room 0.42 %,
+/// Cornell box 0.71 %) for a render stage 0.7 s and 0.2 s shorter.
 pub(super) const PIECE_PENUMBRA_REFINE: u32 = 2;
 
 /// One emitting root face.
@@ -61,8 +61,9 @@ impl Luminaires {
     /// Each luminaire's visibility is first sampled by an n × n grid (n² = `samples`) and by
     /// rays to its corners; where they disagree (a penumbra) it is sampled again by a grid
     /// `refine` times finer on each side ([`PENUMBRA_REFINE`] for what the eye sees, so that
-    /// soft shadows come out without visible grain). (An occluder's edge that hides a sliver of the light from a point at
-    /// the rim of its penumbra passes between the grid's rays, but not between the corners.)
+    /// soft shadows come out without visible grain). (An occluder's edge that hides a sliver
+    /// of the light from a point at the rim of its penumbra passes between the grid's rays,
+    /// but not between the corners.)
     pub(super) fn irradiance(
         &self,
         world: &World,

@@ -364,9 +364,9 @@ impl Slope {
 /// zero; the shifts of the four quarters cancel, so the face keeps its mean), and split again,
 /// `depth` more times, where the point is within [`SPLIT_WITHIN`] of a quarter's diameter.
 /// Next to a crease the light of the surface across it changes fast (the ceiling lit by a
-/// window below it: nothing at the wall, the most 30 cm off), and a wall point within a few centimetres of the ceiling weighs the
-/// ceiling's first centimetres the most: a constant value per piece showed a bright band along
-/// the crease.
+/// window below it: nothing at the wall, the most 30 cm off), and a wall point within a few
+/// centimetres of the ceiling weighs the ceiling's first centimetres the most: a constant
+/// value per piece showed a bright band along the crease.
 fn split_piece(
     (face, front): (&Face, Vec3),
     value: Rgb,
