@@ -232,7 +232,7 @@ fn absorbed_power(mesh: &Mesh, solution: &Solution) -> Rgb {
                     h[c] = solution.irradiance[e][c];
                 }
             }
-            mesh.element(e).face.area() * (Rgb::ONE - rho) * h
+            mesh.element(e).area() * (Rgb::ONE - rho) * h
         })
         .sum()
 }
@@ -336,9 +336,7 @@ impl Solved {
             let power: Rgb = self.mesh.roots[p]
                 .clone()
                 .flat_map(|r| self.mesh.nodes[r as usize].elements.clone())
-                .map(|e| {
-                    self.mesh.element(e as usize).face.area() * self.solution.radiosity[e as usize]
-                })
+                .map(|e| self.mesh.element(e as usize).area() * self.solution.radiosity[e as usize])
                 .sum();
             if patch.back {
                 sum.back += power;

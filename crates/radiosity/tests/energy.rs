@@ -27,7 +27,7 @@ fn solve_with(g: &Geometry, method: Method) -> Solution {
 fn power(g: &Geometry, b: &[Rgb]) -> Rgb {
     b.iter()
         .enumerate()
-        .map(|(e, b)| *b * g.mesh.element(e).face.area())
+        .map(|(e, b)| *b * g.mesh.element(e).area())
         .sum()
 }
 

@@ -160,7 +160,7 @@ fn reciprocity_holds_between_elements() {
     for (e, row) in matrix.chunks_mut(n).enumerate() {
         ff.row(&g, e, row);
     }
-    let area = |e: usize| p.mesh.element(e).face.area();
+    let area = |e: usize| p.mesh.element(e).area();
     let mut worst: f64 = 0.0;
     for i in 0..n {
         for j in 0..i {

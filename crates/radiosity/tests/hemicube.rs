@@ -36,7 +36,7 @@ fn by_rows(g: &Geometry, ff: &dyn FormFactors, from: u32, to: u32) -> f64 {
             .filter(|&s| g.source_patch(s) == to)
             .map(|s| f64::from(row[s]))
             .sum();
-        sum += g.mesh.element(e).face.area() * f;
+        sum += g.mesh.element(e).area() * f;
     }
     sum / g.mesh.patches[from as usize].area
 }

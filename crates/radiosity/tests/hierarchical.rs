@@ -36,7 +36,7 @@ fn run(scene: Scene, settings: &Settings) -> Solved {
 /// Σ A B over all elements.
 fn power(s: &Solved) -> Rgb {
     (0..s.mesh.element_count())
-        .map(|e| s.mesh.element(e).face.area() * s.solution.radiosity[e])
+        .map(|e| s.mesh.element(e).area() * s.solution.radiosity[e])
         .sum()
 }
 
@@ -121,7 +121,7 @@ fn cube_emitting_everywhere_is_uniform_on_average() {
     );
     let expected = std::f64::consts::PI / (1.0 - rho);
     let area: f64 = (0..s.mesh.element_count())
-        .map(|e| s.mesh.element(e).face.area())
+        .map(|e| s.mesh.element(e).area())
         .sum();
     let mean = power(&s).x / area;
     let worst = s

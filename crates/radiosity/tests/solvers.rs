@@ -116,7 +116,7 @@ fn progressive_ambient_accounts_for_the_unshot_power() {
     let s = solve::solve(&g, ff.as_ref(), Method::Progressive, &settings, &Silent).unwrap();
     assert_eq!(s.iterations, 10);
     assert!(s.residual > 0.1);
-    let area = |e: usize| p.mesh.element(e).face.area();
+    let area = |e: usize| p.mesh.element(e).area();
     let plain: f64 = s
         .radiosity
         .iter()

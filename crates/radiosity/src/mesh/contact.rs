@@ -122,9 +122,9 @@ impl Mesh {
             .iter()
             .map(|c| c.abs().max_element())
             .fold(0.0, f32::max);
-        let eps = (TOLERANCE * node.face.diameter()).max(8.0 * f32::EPSILON * magnitude);
+        let eps = (TOLERANCE * node.diameter()).max(8.0 * f32::EPSILON * magnitude);
         let mut wanted = 0;
-        let reach = reach.min(QUERY_DIAMETERS * node.face.diameter()).max(eps);
+        let reach = reach.min(QUERY_DIAMETERS * node.diameter()).max(eps);
         self.other_triangles_near(bvh, n, reach, |t| {
             if wanted <= done {
                 let polygon = self.triangle_polygon[t] as usize;

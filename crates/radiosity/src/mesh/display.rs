@@ -147,7 +147,7 @@ impl Built {
             for (e, (ring, _)) in self.rings.iter().enumerate() {
                 let mean =
                     ring.iter().map(|&v| values[v as usize]).sum::<Rgb>() / ring.len() as f64;
-                let area = mesh.element(e).face.area();
+                let area = mesh.element(e).area();
                 for &v in ring {
                     misfit[v as usize].0 += (radiosity[e] - mean) * area;
                     misfit[v as usize].1 += area;
@@ -191,7 +191,7 @@ fn build(mesh: &Mesh, radiosity: &[Rgb], angle: f32) -> Built {
         let node = &mesh.nodes[n as usize];
         let patch = &mesh.patches[node.patch as usize];
         let surface = surfaces[node.patch as usize];
-        let area = node.face.area();
+        let area = node.area();
         for &p in node.face.corners() {
             let k = key.of(p);
             let place = (patch.object, patch.back, k);
@@ -269,7 +269,7 @@ fn build(mesh: &Mesh, radiosity: &[Rgb], angle: f32) -> Built {
             let centre = lit.positions.len() as u32;
             let mean =
                 ring.iter().map(|&v| lit.radiosity[v as usize]).sum::<Rgb>() / ring.len() as f64;
-            lit.positions.push(node.face.centroid());
+            lit.positions.push(node.centroid());
             lit.radiosity.push(mean);
             for i in 0..ring.len() {
                 push([centre, ring[i], ring[(i + 1) % ring.len()]]);
@@ -467,7 +467,7 @@ mod tests {
         // A linear radiosity ramp in x: vertex values must reproduce it wherever elements are
         // symmetric about the vertex, and the mesh must be watertight.
         let b: Vec<Rgb> = (0..n)
-            .map(|e| Rgb::splat(f64::from(mesh.element(e).face.centroid().x)))
+            .map(|e| Rgb::splat(f64::from(mesh.element(e).centroid().x)))
             .collect();
         let lit = lit_mesh(&mesh, &b);
         assert_watertight(&lit);
@@ -589,7 +589,7 @@ mod tests {
         assert_eq!(mesh.element_count(), 64);
         let field = |p: Vec3| 1.0 + 4.0 * f64::from(p.x);
         let b: Vec<Rgb> = (0..64)
-            .map(|e| Rgb::splat(field(mesh.element(e).face.centroid())))
+            .map(|e| Rgb::splat(field(mesh.element(e).centroid())))
             .collect();
         let (plain, extrapolated) = (
             lit_mesh(&mesh, &b),

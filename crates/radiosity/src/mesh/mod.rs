@@ -21,6 +21,7 @@ mod face;
 mod imprint;
 pub mod lit_mesh;
 mod near_field;
+mod node;
 mod patch;
 mod shadow;
 mod sources;
@@ -34,6 +35,7 @@ pub use contact::CONTACT_LEVELS;
 pub use face::Face;
 pub use lit_mesh::LitMesh;
 pub use near_field::NEAR_REFINEMENT;
+pub use node::Node;
 pub use patch::Patch;
 pub use shadow::SHADOW_LEVELS;
 
@@ -61,24 +63,6 @@ pub const DEFAULT_ELEMENTS: usize = 4096;
 
 /// The deepest quadtree level (4^12 ≈ 16.7 M leaves per root face).
 pub const MAX_LEVEL: u8 = 12;
-
-/// A quadtree node: a face of a patch, with four children or none (then it is an element).
-#[derive(Clone, Debug)]
-pub struct Node {
-    /// The node's triangle or quadrilateral.
-    pub face: Face,
-    /// Index into [`Mesh::patches`].
-    pub patch: u32,
-    /// Depth below the patch's root faces (roots are level 0).
-    pub level: u8,
-    /// Index of the first of four consecutive children in [`Mesh::nodes`], if any.
-    pub children: Option<u32>,
-    /// The elements below this node (itself, for a leaf): a range of [`Mesh::elements`].
-    pub elements: Range<u32>,
-    /// Whether another surface lies in this node's near field, where form factors need a finer
-    /// receiver grid ([`Mesh::mark_near_field`]; children inherit it).
-    pub near: bool,
-}
 
 /// Patches and their element quadtrees, plus the triangles that the visibility structure needs.
 #[derive(Clone, Debug, Default)]
@@ -138,17 +122,14 @@ impl Mesh {
         let mut mesh = Mesh::default();
         for (index, ((patch, roots), target)) in patches.into_iter().zip(targets).enumerate() {
             let first = mesh.nodes.len() as u32;
-            mesh.nodes.extend(roots.iter().map(|&face| Node {
-                face,
-                patch: index as u32,
-                level: 0,
-                children: None,
-                elements: 0..0,
-                near: false,
-            }));
+            mesh.nodes.extend(
+                roots
+                    .iter()
+                    .map(|&face| Node::new(face, index as u32, 0, false)),
+            );
             mesh.roots.push(first..mesh.nodes.len() as u32);
             for r in first..mesh.nodes.len() as u32 {
-                let level = budget::level_for(mesh.nodes[r as usize].face.area(), target);
+                let level = budget::level_for(mesh.nodes[r as usize].area(), target);
                 mesh.grow(r, level);
             }
             mesh.patches.push(patch);
@@ -190,14 +171,7 @@ impl Mesh {
             let (patch, level, near) = (node.patch, node.level + 1, node.near);
             let first = self.nodes.len() as u32;
             for face in node.face.split() {
-                self.nodes.push(Node {
-                    face,
-                    patch,
-                    level,
-                    children: None,
-                    elements: 0..0,
-                    near,
-                });
+                self.nodes.push(Node::new(face, patch, level, near));
             }
             self.nodes[n as usize].children = Some(first);
             for c in first..first + 4 {
@@ -219,14 +193,11 @@ impl Mesh {
             let (patch, level, faces) = (node.patch, node.level + 1, node.face.split());
             let near = node.near;
             let first = self.nodes.len() as u32;
-            self.nodes.extend(faces.into_iter().map(|face| Node {
-                face,
-                patch,
-                level,
-                children: None,
-                elements: 0..0,
-                near,
-            }));
+            self.nodes.extend(
+                faces
+                    .into_iter()
+                    .map(|face| Node::new(face, patch, level, near)),
+            );
             self.nodes[n as usize].children = Some(first);
         }
         self.elements.clear();
@@ -318,8 +289,8 @@ impl Mesh {
         for (i, node) in self.nodes.iter().enumerate() {
             let Some(c) = node.children else { continue };
             let children = &self.nodes[c as usize..c as usize + 4];
-            let area: f64 = children.iter().map(|k| k.face.area()).sum();
-            let (parent, tolerance) = (node.face.area(), split_area_tolerance(&node.face));
+            let area: f64 = children.iter().map(|k| k.area()).sum();
+            let (parent, tolerance) = (node.area(), split_area_tolerance(&node.face));
             if (area - parent).abs() > tolerance {
                 return Err(format!(
                     "children of node {i} do not cover it (areas {area:e} vs {parent:e})"
@@ -341,10 +312,7 @@ impl Mesh {
             }
         }
         for (p, roots) in self.roots.iter().enumerate() {
-            let area: f64 = roots
-                .clone()
-                .map(|r| self.nodes[r as usize].face.area())
-                .sum();
+            let area: f64 = roots.clone().map(|r| self.nodes[r as usize].area()).sum();
             if (area - self.patches[p].area).abs() > 1e-4 * self.patches[p].area {
                 return Err(format!("roots of patch {p} do not cover it"));
             }
@@ -559,7 +527,7 @@ mod tests {
                 "element {e} straddles the footprint: {c:?}"
             );
             if inside {
-                under += mesh.element(e as usize).face.area();
+                under += mesh.element(e as usize).area();
             }
         }
         assert!((under - 1.0).abs() < 1e-5, "{under}");

@@ -45,9 +45,9 @@ impl Mesh {
     fn has_near_source(&self, bvh: &Bvh, n: u32) -> bool {
         let node = &self.nodes[n as usize];
         let patch = &self.patches[node.patch as usize];
-        let diameter = node.face.diameter();
+        let diameter = node.diameter();
         let reach = REACH * diameter;
-        let (centre, origin) = (node.face.centroid(), node.face.corners()[0]);
+        let (centre, origin) = (node.centroid(), node.face.corners()[0]);
         let eps = 1e-4 * diameter;
         let mut near = false;
         self.other_triangles_near(bvh, n, reach, |t| {

@@ -87,7 +87,7 @@ impl Mesh {
         while let Some(n) = stack.pop() {
             let node = &self.nodes[n as usize];
             match node.children {
-                Some(c) if node.face.area() > threshold || mixed[n as usize] => {
+                Some(c) if node.area() > threshold || mixed[n as usize] => {
                     stack.extend((c..c + 4).rev());
                 }
                 _ => out.push(n),

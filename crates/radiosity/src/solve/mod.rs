@@ -372,7 +372,7 @@ impl System {
     fn new(g: &Geometry) -> Result<Self, SolveError> {
         let mesh = g.mesh;
         let n = mesh.element_count();
-        let area: Vec<f64> = (0..n).map(|e| mesh.element(e).face.area()).collect();
+        let area: Vec<f64> = (0..n).map(|e| mesh.element(e).area()).collect();
         let reflectance = (0..n).map(|e| mesh.element_patch(e).reflectance).collect();
         let emission: Vec<Rgb> = (0..n).map(|e| mesh.element_patch(e).emission).collect();
         let mut source_of = vec![u32::MAX; n];

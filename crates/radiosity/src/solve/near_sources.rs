@@ -176,7 +176,7 @@ impl Receiver {
     fn of(mesh: &Mesh, element: usize) -> Self {
         let receiver = mesh.element(element);
         Self {
-            centroid: receiver.face.centroid().as_dvec3(),
+            centroid: receiver.centroid().as_dvec3(),
             patch: receiver.patch,
         }
     }
@@ -188,10 +188,10 @@ impl Receiver {
         if n.children.is_none() || n.patch == self.patch {
             return false;
         }
-        let centroid = n.face.centroid().as_dvec3();
+        let centroid = n.centroid().as_dvec3();
         let normal = mesh.patches[n.patch as usize].normal.as_dvec3();
         let offset = self.centroid - centroid;
-        normal.dot(offset) > 0.0 && offset.length() < REACH * f64::from(n.face.diameter())
+        normal.dot(offset) > 0.0 && offset.length() < REACH * f64::from(n.diameter())
     }
 }
 

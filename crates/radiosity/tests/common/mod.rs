@@ -12,7 +12,7 @@ pub fn patch_to_patch(g: &Geometry, ff: &dyn FormFactors, from: u32, to: u32) ->
         ff.column(g, s, &mut column);
         for (e, &f) in column.iter().enumerate() {
             if g.mesh.element(e).patch == from {
-                sum += g.mesh.element(e).face.area() * f64::from(f);
+                sum += g.mesh.element(e).area() * f64::from(f);
             }
         }
     }

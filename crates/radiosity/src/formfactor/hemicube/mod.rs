@@ -191,14 +191,8 @@ impl Hemicube {
     pub fn view(&self, g: &Geometry, element: usize) -> View {
         let mut scratch = Scratch::default();
         let node = g.mesh.element(element);
-        let (centre, normal) = (node.face.centroid(), node.face.normal());
-        let eye = self.eye(
-            centre,
-            normal,
-            node.face.diameter(),
-            node.patch,
-            [0, element, 0],
-        );
+        let (centre, normal) = (node.centroid(), node.normal());
+        let eye = self.eye(centre, normal, node.diameter(), node.patch, [0, element, 0]);
         self.draw(g, &eye, sources_of(g), &mut scratch, false);
         View {
             layout: self.layout,
@@ -483,7 +477,7 @@ impl FormFactors for Hemicube {
 
     fn column(&self, g: &Geometry, source: usize, out: &mut [f32]) {
         let node = &g.mesh.nodes[g.sources[source] as usize];
-        let source_area = node.face.area();
+        let source_area = node.area();
         let mesh = g.mesh;
         let elements = (mesh.element_count(), |e: usize| {
             let n = mesh.element(e);
@@ -497,7 +491,7 @@ impl FormFactors for Hemicube {
             self.integrate(g, shooter, elements, scratch, true);
             // Reciprocity: F_{e→s} = A_s F_{s→e} / A_e.
             for (e, (o, &f)) in out.iter_mut().zip(&scratch.total).enumerate() {
-                let area = mesh.element(e).face.area();
+                let area = mesh.element(e).area();
                 *o = if area > 0.0 {
                     (f * source_area / area) as f32
                 } else {

@@ -79,7 +79,7 @@ impl Clusters {
         let object = |f: u32| mesh.patches[mesh.nodes[f as usize].patch as usize].object;
         let centroids: Vec<Vec3> = faces
             .iter()
-            .map(|&n| mesh.nodes[n as usize].face.centroid())
+            .map(|&n| mesh.nodes[n as usize].centroid())
             .collect();
         // Faces grouped by object (stable: ties keep the patches' order).
         let mut order: Vec<u32> = (0..faces.len() as u32).collect();
@@ -225,10 +225,7 @@ impl Clusters {
         }
         for (i, c) in self.nodes.iter().enumerate() {
             let faces = &self.faces[c.faces.start as usize..c.faces.end as usize];
-            let area: f64 = faces
-                .iter()
-                .map(|&f| mesh.nodes[f as usize].face.area())
-                .sum();
+            let area: f64 = faces.iter().map(|&f| mesh.nodes[f as usize].area()).sum();
             if (area - c.area).abs() > 1e-6 * c.area.max(1e-30) {
                 return Err(format!("cluster {i}: area does not add up"));
             }

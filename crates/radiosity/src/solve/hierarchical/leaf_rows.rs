@@ -379,7 +379,7 @@ mod tests {
         // faces' 4 × 4 points give adjacent faces 0.2017, their elements 0.1999, exact 0.2000).
         let mut carried = vec![0.0; links.len()];
         for (k, &e) in mesh.elements.iter().enumerate() {
-            let area = mesh.nodes[e as usize].face.area();
+            let area = mesh.nodes[e as usize].area();
             for i in rows.start[k]..rows.start[k + 1] {
                 carried[rows.link[i] as usize] += area * f64::from(rows.factor[i]);
             }

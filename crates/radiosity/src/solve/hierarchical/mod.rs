@@ -160,7 +160,7 @@ impl Solver for Hierarchical {
             .map(|&n| {
                 let (mut power, mut area) = (Rgb::ZERO, 0.0);
                 for e in mesh.nodes[n as usize].elements.clone() {
-                    let a = mesh.element(e as usize).face.area();
+                    let a = mesh.element(e as usize).area();
                     power += a * run.irradiance[e as usize];
                     area += a;
                 }

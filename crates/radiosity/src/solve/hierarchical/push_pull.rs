@@ -110,7 +110,7 @@ impl State {
         self.node_h.resize(n, Rgb::ZERO);
         self.node_shine.resize(n, Rgb::ZERO);
         self.node_area
-            .extend(mesh.nodes[old..].iter().map(|k| k.face.area()));
+            .extend(mesh.nodes[old..].iter().map(|k| k.area()));
         let leaves: Vec<u32> = (old as u32..n as u32)
             .filter(|&k| mesh.nodes[k as usize].children.is_none())
             .collect();
@@ -545,7 +545,7 @@ fn direction(mesh: &Mesh, clusters: &Clusters, receiver: Handle, source: Handle)
     let center = |h: Handle| -> DVec3 {
         match h.end() {
             End::Cluster(c) => clusters.nodes[c].center.as_dvec3(),
-            End::Node(n) => mesh.nodes[n].face.centroid().as_dvec3(),
+            End::Node(n) => mesh.nodes[n].centroid().as_dvec3(),
         }
     };
     (center(receiver) - center(source)).normalize_or_zero()

@@ -99,7 +99,7 @@ impl Oracle<'_> {
             return true;
         };
         let node = &mesh.nodes[n];
-        node.children.is_some() || (node.level < MAX_LEVEL && node.face.area() >= 4.0 * min_area)
+        node.children.is_some() || (node.level < MAX_LEVEL && node.area() >= 4.0 * min_area)
     }
 }
 

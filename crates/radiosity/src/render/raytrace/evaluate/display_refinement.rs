@@ -115,7 +115,7 @@ pub fn lit_mesh(
 fn mean_luminance(mesh: &Mesh, radiosity: &[Rgb]) -> f64 {
     let (mut sum, mut area) = (0.0, 0.0);
     for (e, b) in radiosity.iter().enumerate() {
-        let a = mesh.element(e).face.area();
+        let a = mesh.element(e).area();
         sum += a * luminance(*b);
         area += a;
     }

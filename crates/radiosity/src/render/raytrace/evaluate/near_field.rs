@@ -112,7 +112,7 @@ impl NearField {
         for e in 0..mesh.element_count() {
             let node = mesh.element(e);
             let r = &mut reach[node.patch as usize];
-            *r = r.max(NEAR_REACH * node.face.diameter());
+            *r = r.max(NEAR_REACH * node.diameter());
         }
         let reflected: Vec<Rgb> = mesh
             .nodes
@@ -121,7 +121,7 @@ impl NearField {
                 let emission = mesh.patches[node.patch as usize].emission;
                 let (mut area, mut sum) = (0.0, Rgb::ZERO);
                 for e in node.elements.clone() {
-                    let a = mesh.element(e as usize).face.area();
+                    let a = mesh.element(e as usize).area();
                     area += a;
                     sum += (radiosity[e as usize] - emission) * a;
                 }

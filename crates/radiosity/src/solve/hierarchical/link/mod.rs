@@ -208,7 +208,7 @@ impl<'a> View<'a> {
     pub fn area(&self, h: Handle) -> f64 {
         match h.end() {
             End::Cluster(c) => self.clusters.nodes[c].area,
-            End::Node(n) => self.mesh.nodes[n].face.area(),
+            End::Node(n) => self.mesh.nodes[n].area(),
         }
     }
 
@@ -225,15 +225,7 @@ impl<'a> View<'a> {
                 let c = &self.clusters.nodes[c];
                 (c.center, c.radius)
             }
-            End::Node(n) => {
-                let corners = self.mesh.nodes[n].face.corners();
-                let centre = corners.iter().copied().sum::<Vec3>() / corners.len() as f32;
-                let radius = corners
-                    .iter()
-                    .map(|c| c.distance(centre))
-                    .fold(0.0, f32::max);
-                (centre, radius)
-            }
+            End::Node(n) => self.mesh.nodes[n].sphere(),
         }
     }
 
@@ -404,8 +396,8 @@ impl<'a> View<'a> {
         let ((cr, _), (cs, rs)) = (self.sphere(r), self.sphere(s));
         let (corners, sides) = ns.face.corners_f64();
         let polygon = &corners[..sides];
-        if far && f64::from(cr.distance(cs) - rs) > FAR_FIELD * f64::from(nr.face.diameter()) {
-            let (centroid, normal) = (nr.face.centroid(), nr.face.normal());
+        if far && f64::from(cr.distance(cs) - rs) > FAR_FIELD * f64::from(nr.diameter()) {
+            let (centroid, normal) = (nr.centroid(), nr.normal());
             let f = point_to_polygon(centroid.as_dvec3(), normal.as_dvec3(), polygon);
             return (f, f, f);
         }

@@ -148,7 +148,7 @@ impl View<'_> {
             let node = &self.mesh.nodes[node as usize];
             let n = self.mesh.patches[node.patch as usize].normal;
             let p = node.face.point(u, v);
-            (n.dot(toward - p) > 0.0).then(|| (p, n, node.face.area()))
+            (n.dot(toward - p) > 0.0).then(|| (p, n, node.area()))
         };
         let c = match h.end() {
             End::Node(n) => return on(n as u32),
