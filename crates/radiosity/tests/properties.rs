@@ -22,7 +22,7 @@ use std::path::Path;
 
 use glam::{DVec3, Vec3};
 use proptest::prelude::*;
-use radiosity::mesh::{Mesh, Subdivision};
+use radiosity::mesh::{Mesh, Node, Subdivision};
 use radiosity::scene::import::gltf_file::parse_gltf;
 use radiosity::scene::import::obj::parse_obj;
 use radiosity::scene::validate::{polygon_problem, PolygonProblem};
@@ -413,7 +413,17 @@ proptest! {
         // A node below the roots, shrunk to its first quarter: its parent loses 3/16 of its area.
         let roots = mesh.roots.iter().map(|r| r.end).max().unwrap_or(0) as usize;
         let n = roots + pick.index(mesh.nodes.len() - roots);
-        mesh.nodes[n].face = mesh.nodes[n].face.split()[0];
+        let old = mesh.nodes[n].clone();
+        let shrunk = old.face.split()[0];
+        // Its face changed in place: its kept measures are no longer its face's.
+        mesh.nodes[n].face = shrunk;
+        let e = mesh.validate().expect_err("a changed face");
+        prop_assert!(e.contains("measures"), "{}", e);
+        // Made anew with the shrunk face: the tree's areas no longer add up.
+        let mut node = Node::new(shrunk, old.patch, old.level, old.near);
+        node.children = old.children;
+        node.elements = old.elements;
+        mesh.nodes[n] = node;
         let e = mesh.validate().expect_err("a shrunk child");
         prop_assert!(e.contains("do not cover"), "{}", e);
     }

@@ -272,7 +272,8 @@ impl Mesh {
 
     /// Checks the quadtree invariants: children partition their parent's area and element range,
     /// levels increase by one, leaves are numbered depth-first, every patch's roots cover its
-    /// area.
+    /// area, and every node's cached measures are its face's ([`Node::consistent`]). Areas are
+    /// taken from the faces themselves.
     ///
     /// # Errors
     /// A description of the first broken invariant.
@@ -286,11 +287,14 @@ impl Mesh {
                 return Err(format!("element {e} is not a leaf numbered {e}"));
             }
         }
+        if let Some(i) = self.nodes.iter().position(|n| !n.consistent()) {
+            return Err(format!("node {i}'s measures are not its face's"));
+        }
         for (i, node) in self.nodes.iter().enumerate() {
             let Some(c) = node.children else { continue };
             let children = &self.nodes[c as usize..c as usize + 4];
-            let area: f64 = children.iter().map(|k| k.area()).sum();
-            let (parent, tolerance) = (node.area(), split_area_tolerance(&node.face));
+            let area: f64 = children.iter().map(|k| k.face.area()).sum();
+            let (parent, tolerance) = (node.face.area(), split_area_tolerance(&node.face));
             if (area - parent).abs() > tolerance {
                 return Err(format!(
                     "children of node {i} do not cover it (areas {area:e} vs {parent:e})"
@@ -312,7 +316,10 @@ impl Mesh {
             }
         }
         for (p, roots) in self.roots.iter().enumerate() {
-            let area: f64 = roots.clone().map(|r| self.nodes[r as usize].area()).sum();
+            let area: f64 = roots
+                .clone()
+                .map(|r| self.nodes[r as usize].face.area())
+                .sum();
             if (area - self.patches[p].area).abs() > 1e-4 * self.patches[p].area {
                 return Err(format!("roots of patch {p} do not cover it"));
             }

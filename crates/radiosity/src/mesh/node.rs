@@ -15,7 +15,8 @@ use super::Face;
 /// A quadtree node: a face of a patch, with four children or none (then it is an element).
 #[derive(Clone, Debug)]
 pub struct Node {
-    /// The node's triangle or quadrilateral.
+    /// The node's triangle or quadrilateral. Not to be changed once the node is made: its
+    /// measures are kept from it ([`super::Mesh::validate`] checks).
     pub face: Face,
     /// Index into [`super::Mesh::patches`].
     pub patch: u32,
@@ -33,7 +34,7 @@ pub struct Node {
 }
 
 /// What [`Face`] would compute again and again.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Measures {
     area: f64,
     centroid: Vec3,
@@ -71,6 +72,14 @@ impl Node {
             elements: 0..0,
             near,
         }
+    }
+
+    /// Whether the kept measures are those of the face (a node whose face was changed after
+    /// it was made is not).
+    #[must_use]
+    pub fn consistent(&self) -> bool {
+        let fresh = Node::new(self.face, self.patch, self.level, self.near);
+        self.measures == fresh.measures
     }
 
     /// [`Face::area`] of the node's face.
