@@ -46,10 +46,8 @@ struct Measures {
     radius: f32,
 }
 
-impl Node {
-    /// A leaf node of `face` on patch `patch`, `level` below its root.
-    #[must_use]
-    pub fn new(face: Face, patch: u32, level: u8, near: bool) -> Self {
+impl Measures {
+    fn of(face: &Face) -> Self {
         let corners = face.corners();
         let centre = corners.iter().copied().sum::<Vec3>() / corners.len() as f32;
         let radius = corners
@@ -57,14 +55,22 @@ impl Node {
             .map(|c| c.distance(centre))
             .fold(0.0, f32::max);
         Self {
-            measures: Measures {
-                area: face.area(),
-                centroid: face.centroid(),
-                normal: face.normal(),
-                diameter: face.diameter(),
-                centre,
-                radius,
-            },
+            area: face.area(),
+            centroid: face.centroid(),
+            normal: face.normal(),
+            diameter: face.diameter(),
+            centre,
+            radius,
+        }
+    }
+}
+
+impl Node {
+    /// A leaf node of `face` on patch `patch`, `level` below its root.
+    #[must_use]
+    pub fn new(face: Face, patch: u32, level: u8, near: bool) -> Self {
+        Self {
+            measures: Measures::of(&face),
             face,
             patch,
             level,
@@ -78,8 +84,7 @@ impl Node {
     /// it was made is not).
     #[must_use]
     pub fn consistent(&self) -> bool {
-        let fresh = Node::new(self.face, self.patch, self.level, self.near);
-        self.measures == fresh.measures
+        self.measures == Measures::of(&self.face)
     }
 
     /// [`Face::area`] of the node's face.

@@ -88,6 +88,16 @@ impl Scratch {
         opened
     }
 
+    /// Each node of the cut with its source, whether it is an opened piece, and its factor
+    /// from [`Scratch::row_over_cut`].
+    fn entries(&self) -> impl Iterator<Item = (u32, u32, bool, f32)> + '_ {
+        self.cut
+            .iter()
+            .zip(&self.origin)
+            .zip(&self.values)
+            .map(|((&node, &(source, piece)), &f)| (node, source, piece, f))
+    }
+
     /// The form-factor method's row from `element` over the cut, into `values`.
     fn row_over_cut(&mut self, g: &Geometry, ff: &dyn FormFactors, element: usize) {
         self.values.clear();
@@ -117,13 +127,7 @@ pub(super) fn row(
     }
     scratch.row_over_cut(g, ff, element);
     out.fill(0.0);
-    let Scratch {
-        cut,
-        origin,
-        values,
-        ..
-    } = scratch;
-    for ((&node, &(s, piece)), &f) in cut.iter().zip(origin.iter()).zip(values.iter()) {
+    for (node, s, piece, f) in scratch.entries() {
         if !piece {
             out[s as usize] = f;
         } else if f != 0.0 {
@@ -152,13 +156,7 @@ pub(super) fn opened(
         return;
     }
     scratch.row_over_cut(g, ff, element);
-    let Scratch {
-        cut,
-        origin,
-        values,
-        ..
-    } = scratch;
-    for ((&node, &(s, piece)), &f) in cut.iter().zip(origin.iter()).zip(values.iter()) {
+    for (node, s, piece, f) in scratch.entries() {
         if piece && f != 0.0 {
             out.push((s, Piece::of(g.mesh, node, f)));
         }

@@ -135,7 +135,12 @@ impl NearField {
         let shapes = mesh
             .nodes
             .iter()
-            .map(|node| Shape::of(&node.face, mesh.patches[node.patch as usize].normal))
+            .map(|node| Shape {
+                centroid: node.centroid(),
+                diameter: node.diameter(),
+                area: node.area(),
+                normal: mesh.patches[node.patch as usize].normal,
+            })
             .collect();
         let (mut boxes, mut nodes) = (Vec::new(), Vec::new());
         for (p, roots) in mesh.roots.iter().enumerate() {
