@@ -95,6 +95,15 @@ pub trait FormFactors: Sync {
     fn occluded_only_by_sources(&self) -> bool {
         false
     }
+
+    /// Whether a row's factors tile the receiver's hemisphere, so that its sum is what the
+    /// receiver sees of the scene to rounding and its errors are in how the hemisphere is
+    /// shared out: then the gathering solvers balance the columns to the rows
+    /// ([`crate::solve`]'s column balance). True for the hemicube; false for ray casting, whose
+    /// rows are estimates like its columns.
+    fn rows_tile_the_hemisphere(&self) -> bool {
+        false
+    }
 }
 
 /// Names the variants of a method enum for the command line and stats: `ALL` (every method, in

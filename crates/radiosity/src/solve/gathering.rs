@@ -53,6 +53,9 @@ pub(super) fn solve(job: Job, solution: &mut Solution, sweeps: Sweeps) -> Result
     let start = Instant::now();
     progress.start("solve", 0);
     system.bury(g, &matrix);
+    if ff.rows_tile_the_hemisphere() {
+        system.balance(&matrix);
+    }
     let run = sweeps(&system, &matrix, settings, &mut session, progress);
     progress.finish();
     solution.irradiance = system.irradiance(&matrix, &run.radiosity);

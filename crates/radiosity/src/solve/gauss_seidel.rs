@@ -45,10 +45,7 @@ pub(super) fn run(
             let delta = new - *value;
             *value = new;
             moved += system.area[e] * l1(delta);
-            let s = system.source_of[e] as usize;
-            if system.source_area[s] > 0.0 {
-                shine.sources[s] += delta * (system.area[e] / system.source_area[s]);
-            }
+            shine.sources[system.source_of[e] as usize] += delta * system.share(e);
         }
         moved / system.emitted
     })

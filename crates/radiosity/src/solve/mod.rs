@@ -43,6 +43,7 @@
 //! iterations (the solution so far is returned, marked [`Solution::interrupted`]), periodic
 //! checkpoints, and a checkpoint to resume from (see [`checkpoint`]).
 
+mod balance;
 pub mod checkpoint;
 mod gathering;
 pub mod gauss_seidel;
@@ -364,6 +365,9 @@ pub(crate) struct System {
     /// before each element (and of all of them, last): an opened piece's are differences.
     open_before: Vec<f64>,
     hidden_before: Vec<Rgb>,
+    /// The weights of each element's row (what it gathers) and each source's column (what it
+    /// shines), from [`balance`]; 1 unless [`System::balance`] is called.
+    weights: balance::Weights,
     /// Σ A ‖E‖₁, the denominator of the residual.
     emitted: f64,
 }
@@ -403,6 +407,7 @@ impl System {
             hidden_emission: Vec::new(),
             open_before: Vec::new(),
             hidden_before: Vec::new(),
+            weights: balance::Weights::none(n, g.sources.len()),
             emitted,
         };
         system.weigh_sources();
@@ -422,6 +427,7 @@ impl System {
     /// The open area and hidden emission of every source, from the elements' exposure.
     fn weigh_sources(&mut self) {
         let (area, exposure, emission) = (&self.area, &self.exposure, &self.emission);
+        let hidden = |e: usize| emission[e] * (area[e] * (1.0 - exposure[e]));
         self.source_area = self
             .source_elements
             .iter()
@@ -430,15 +436,10 @@ impl System {
         self.hidden_emission = self
             .source_elements
             .iter()
-            .map(|r| {
-                r.clone()
-                    .map(|e| emission[e] * (area[e] * (1.0 - exposure[e])))
-                    .sum()
-            })
+            .map(|r| r.clone().map(hidden).sum())
             .collect();
         self.open_before = running_sum((0..area.len()).map(|e| area[e] * exposure[e]));
-        self.hidden_before =
-            running_sum((0..area.len()).map(|e| emission[e] * (area[e] * (1.0 - exposure[e]))));
+        self.hidden_before = running_sum((0..area.len()).map(hidden));
     }
 
     /// Reads the elements' exposure for gathering: the probes of
@@ -463,19 +464,37 @@ impl System {
         self.weigh_sources();
     }
 
+    /// Weighs every source's column so that it gives away what its own rows send, and every
+    /// row back to its sum ([`balance`]).
+    fn balance(&mut self, matrix: &matrix::Matrix) {
+        self.weights = balance::weights(matrix, &self.area, &self.source_of);
+    }
+
+    /// The share of element `e`'s radiosity in what its source shines, w_s A_e / Σ A u.
+    fn share(&self, e: usize) -> f64 {
+        let s = self.source_of[e] as usize;
+        if self.source_area[s] > 0.0 {
+            self.weights.column[s] * self.area[e] / self.source_area[s]
+        } else {
+            0.0
+        }
+    }
+
     /// What the sources shine with the radiosities `b`, into `out`: the radiosity each shared
     /// source shines from its open part, with B the whole-area means of its elements (E on
     /// their buried parts),
     ///
     /// ```text
-    /// B̄_s = (Σ_e A_e B_e − Σ_e A_e (1 − u_e) E_e) / Σ_e A_e u_e ,
+    /// B̄_s = w_s (Σ_e A_e B_e − Σ_e A_e (1 − u_e) E_e) / Σ_e A_e u_e ,
     /// ```
     ///
     /// the substructuring mean of Cohen et al. 1986 taken over the open area only (see
-    /// [`crate::formfactor::exposure`]); and the running sums of A_e B_e from which the same
-    /// mean of an opened piece is read. Means in parallel, each a sequential sum, so the
+    /// [`crate::formfactor::exposure`]), times its column's weight w_s ([`balance`]); and the
+    /// running sums of A_e B_e from which the same mean of an opened piece is read (and
+    /// weighed by its source's w_s in [`System::gather`]). Means in parallel, each a sequential sum, so the
     /// result does not depend on the thread count.
     fn shine(&self, b: &[Rgb], out: &mut Shine) {
+        let w = &self.weights.column;
         out.sources.resize(self.source_area.len(), Rgb::ZERO);
         out.sources
             .par_iter_mut()
@@ -484,7 +503,7 @@ impl System {
                 let range = self.source_elements[s].clone();
                 let sum: Rgb = range.map(|e| b[e] * self.area[e]).sum();
                 *mean = if self.source_area[s] > 0.0 {
-                    (sum - self.hidden_emission[s]) / self.source_area[s]
+                    (sum - self.hidden_emission[s]) * w[s] / self.source_area[s]
                 } else {
                     Rgb::ZERO
                 };
@@ -492,26 +511,29 @@ impl System {
         out.before = running_sum(b.iter().zip(&self.area).map(|(&b, &a)| b * a));
     }
 
-    /// H_e = Σ_s F_es B̄_s + Σ_p F_ep B̄_p: the light element `e` gathers from the shared
-    /// sources and from the pieces of those it opened.
+    /// H_e = x_e (Σ_s F_es B̄_s + Σ_p w_s(p) F_ep B̄_p): the light element `e` gathers from
+    /// the shared sources and from the pieces of those it opened, with the weights of
+    /// [`balance`].
     fn gather(&self, matrix: &matrix::Matrix, e: usize, shine: &Shine) -> Rgb {
         let shared = matrix
             .row(e)
             .iter()
             .zip(&shine.sources)
             .fold(Rgb::ZERO, |acc, (&f, &m)| acc + m * f64::from(f));
-        matrix.pieces(e).iter().fold(shared, |acc, p| {
+        let gathered = matrix.pieces(e).iter().fold(shared, |acc, p| {
             let (a, b) = (p.elements.start as usize, p.elements.end as usize);
             let open = self.open_before[b] - self.open_before[a];
             if open > 0.0 {
                 let power = shine.before[b]
                     - shine.before[a]
                     - (self.hidden_before[b] - self.hidden_before[a]);
-                acc + power * (f64::from(p.factor) / open)
+                let weight = self.weights.column[self.source_of[a] as usize];
+                acc + power * (weight * f64::from(p.factor) / open)
             } else {
                 acc
             }
-        })
+        });
+        gathered * self.weights.row[e]
     }
 
     /// The residual of a change from `old` to `new`: Σ A ‖new − old‖₁ / Σ A ‖E‖₁.

@@ -487,6 +487,10 @@ impl FormFactors for Hemicube {
         true
     }
 
+    fn rows_tile_the_hemisphere(&self) -> bool {
+        true
+    }
+
     fn column(&self, g: &Geometry, source: usize, out: &mut [f32]) {
         let node = &g.mesh.nodes[g.sources[source] as usize];
         let source_area = node.area();
