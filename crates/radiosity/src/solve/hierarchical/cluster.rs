@@ -65,6 +65,9 @@ pub struct Clusters {
     /// For each entry of `faces`: A_f max(0, n_f·e_k), its [`axis_weights`], which the push
     /// and pull of every iteration read.
     pub face_facing: Vec<[f64; 6]>,
+    /// Running sums of the areas of `faces`: entry k is the area of the first k, so that a
+    /// cluster's faces can be drawn in proportion to their areas ([`Clusters::draw_face`]).
+    pub area_before: Vec<f64>,
 }
 
 impl Clusters {
@@ -120,9 +123,27 @@ impl Clusters {
             .iter()
             .map(|&f| axis_weights(mesh.nodes[f as usize].face.vector_area()))
             .collect();
+        out.area_before = std::iter::once(0.0)
+            .chain(out.faces.iter().scan(0.0, |sum, &f| {
+                *sum += mesh.nodes[f as usize].area();
+                Some(*sum)
+            }))
+            .collect();
         out.tabulate();
         debug_assert_eq!(out.validate(mesh), Ok(()));
         out
+    }
+
+    /// The face of cluster `c` (a root-face node id) at the fraction `u` ∈ [0, 1) of its area:
+    /// for a uniform `u`, each face with probability A_f / A.
+    #[must_use]
+    pub fn draw_face(&self, c: usize, u: f64) -> u32 {
+        let range = &self.nodes[c].faces;
+        let (lo, hi) = (range.start as usize, range.end as usize);
+        let target = self.area_before[lo] + u * (self.area_before[hi] - self.area_before[lo]);
+        // The first face whose running sum passes the target.
+        let k = self.area_before[lo + 1..=hi].partition_point(|&sum| sum <= target);
+        self.faces[(lo + k).min(hi - 1)]
     }
 
     /// The projected area P(ω) of cluster `c` toward the unit direction `w` (module docs).

@@ -294,7 +294,7 @@ impl<'a> View<'a> {
         if most.is_nan() || most <= 0.0 {
             return Estimate::Nothing;
         }
-        let v = self.cluster_visibility(r, s);
+        let v = self.cluster_visibility(r, s, 0);
         if v <= 0.0 {
             // Blocked rays are too few to drop a whole group of surfaces: the link is
             // kept with no light and the unoccluded bound as its spread, so the oracle looks
@@ -516,7 +516,7 @@ impl<'a> View<'a> {
             let bound = self.bound(r, s) as f32;
             return Estimate::Link(Link::new(r, s, 0.0, bound, Sight::Unknown));
         }
-        let v = self.face_visibility(r, s, sight, true);
+        let v = self.face_visibility(r, s, sight, true, 0);
         // Visibility known only from shadow rays: the unoccluded factor bounds what the link
         // may be wrong by, so the oracle refines it as long as that is too much to risk.
         let factor = f.min(1.0) * v;
