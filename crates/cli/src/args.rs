@@ -106,10 +106,10 @@ pub struct HemicubeArgs {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Quality {
     /// About 4 096 elements, or ε = 10⁻⁴ where hierarchical radiosity is chosen: the Cornell
-    /// box 0.71 % in 7 s, the furnished room 0.43 % in 14 s.
+    /// box 0.71 % in 7 s, the furnished room 0.36 % in 15 s.
     Default,
     /// About 16 000 elements, or ε = 3·10⁻⁵: the Cornell box 0.49 % in 31 s (its reference's
-    /// own noise is 0.21 %), the furnished room 0.30 % in 28 s (0.15 %).
+    /// own noise is 0.21 %), the furnished room 0.33 % in 28 s (0.15 %).
     Final,
 }
 
