@@ -22,6 +22,12 @@ pub fn unit_f32(bits: u64) -> f32 {
     (bits >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
 }
 
+/// The top 53 bits of `bits` as a number in [0, 1), exact in `f64`.
+#[must_use]
+pub fn unit_f64(bits: u64) -> f64 {
+    (bits >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+
 /// The SplitMix64 generator (successive [`mix`] of a counter), for benchmarks and tools that
 /// want a plain stream.
 #[derive(Clone, Debug)]

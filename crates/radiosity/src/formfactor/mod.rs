@@ -260,10 +260,9 @@ impl Receiver {
     pub fn set_jittered(&mut self, face: &Face, n: u32, seed: Option<u64>) {
         let n = n.max(1);
         let jitter = |cell: u32, axis: u64| match seed {
-            Some(seed) => {
-                let bits = crate::hash::mix(seed ^ crate::hash::mix(u64::from(cell) * 2 + axis));
-                (bits >> 11) as f64 / (1u64 << 53) as f64
-            }
+            Some(seed) => crate::hash::unit_f64(crate::hash::mix(
+                seed ^ crate::hash::mix(u64::from(cell) * 2 + axis),
+            )),
             None => 0.5,
         };
         self.points.clear();

@@ -283,7 +283,6 @@ impl LeafRows {
                 }
             })
             .collect();
-        let visibility: Vec<f64> = judged.iter().map(|j| j.visibility).collect();
         let hidden: Vec<bool> = judged.iter().map(|j| j.partly).collect();
         let pieces = SourcePieces::build(view, links, &rowed, &hidden, stop)?;
         let row = |n: u32| {
@@ -295,12 +294,12 @@ impl LeafRows {
                     let i = i as usize;
                     let factor = if l.receiver == own {
                         judged[i].own
-                    } else if visibility[i] > 0.0 {
+                    } else if judged[i].visibility > 0.0 {
                         let f = view.element_factor(own, l.source);
-                        let v = if hidden[i] && f > 0.0 {
+                        let v = if judged[i].partly && f > 0.0 {
                             view.quick_visibility(own, l.source)
                         } else {
-                            visibility[i]
+                            judged[i].visibility
                         };
                         (f * v) as f32
                     } else {

@@ -8,12 +8,7 @@ use glam::Vec3;
 use super::{End, Handle, Sight, View};
 use crate::accel::Ray;
 use crate::formfactor::visibility::{jitter, kernel, quadrant, ShadowRays};
-use crate::hash::mix;
-
-/// A uniform number in [0, 1) from the top 53 bits of `bits`.
-fn unit_f64(bits: u64) -> f64 {
-    (bits >> 11) as f64 / (1u64 << 53) as f64
-}
+use crate::hash::{mix, unit_f64};
 
 /// Shadow rays paired by quadrant between two faces.
 const PILOT: u32 = 4;
