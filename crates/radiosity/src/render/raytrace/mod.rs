@@ -149,7 +149,11 @@ fn trace_image(
 struct Coverage {
     patch: u32,
     front: bool,
-    point: Vec3,
+    /// The first ray's hit, and the sum of the others' offsets from it: summed as they are,
+    /// 4 096 points a few hundred units from the origin lose a tenth of a unit to rounding in
+    /// `f32`, enough to put a crease pixel's mean point behind its own surface.
+    first: Vec3,
+    offsets: Vec3,
     normal: Vec3,
     sampler: Sampler,
     /// Each ray's lit-mesh point (for the interpolated far part) and emitted radiance.
@@ -203,14 +207,15 @@ fn render_evaluated(
                 .find(|g| g.patch == patch && g.front == hit.front)
             {
                 Some(g) => {
-                    g.point += hit.point;
+                    g.offsets += hit.point - g.first;
                     g.normal += hit.normal;
                     g.rays.push((d, emitted));
                 }
                 None => groups.push(Coverage {
                     patch,
                     front: hit.front,
-                    point: hit.point,
+                    first: hit.point,
+                    offsets: Vec3::ZERO,
                     normal: hit.normal,
                     sampler,
                     rays: vec![(d, emitted)],
@@ -232,7 +237,7 @@ fn render_evaluated(
             let (at_point, share) = evaluation.radiosity(
                 world,
                 world.mesh(),
-                g.point / count,
+                g.first + g.offsets / count,
                 g.normal.normalize_or(g.normal / count),
                 (g.patch, g.rays[0].0),
                 tracer.settings.shadow_samples,
