@@ -50,7 +50,7 @@ const MAX_EDGE_DEPTH: u32 = 16;
 /// If `radiosity.len() != mesh.element_count()`.
 #[must_use]
 pub fn lit_mesh(mesh: &Mesh, radiosity: &[Rgb]) -> LitMesh {
-    build(mesh, radiosity, SMOOTHING_ANGLE_DEG).lit
+    build(mesh, radiosity, SMOOTHING_ANGLE_DEG, None).lit
 }
 
 /// The lit mesh of [`lit_mesh`] with the vertices on the borders of its surfaces extrapolated
@@ -60,7 +60,7 @@ pub fn lit_mesh(mesh: &Mesh, radiosity: &[Rgb]) -> LitMesh {
 /// If `radiosity.len() != mesh.element_count()`.
 #[must_use]
 pub fn lit_mesh_extrapolating_borders(mesh: &Mesh, radiosity: &[Rgb]) -> LitMesh {
-    let mut built = build(mesh, radiosity, SMOOTHING_ANGLE_DEG);
+    let mut built = build(mesh, radiosity, SMOOTHING_ANGLE_DEG, None);
     built.extrapolate_borders(mesh, radiosity);
     built.lit
 }
@@ -73,8 +73,8 @@ pub fn lit_mesh_extrapolating_borders(mesh: &Mesh, radiosity: &[Rgb]) -> LitMesh
 /// # Panics
 /// If `radiosity.len() != mesh.element_count()`.
 #[must_use]
-pub fn lit_mesh_faceted(mesh: &Mesh, radiosity: &[Rgb]) -> LitMesh {
-    let mut built = build(mesh, radiosity, FACET_ANGLE_DEG);
+pub fn lit_mesh_faceted(mesh: &Mesh, radiosity: &[Rgb], open: Option<&[f64]>) -> LitMesh {
+    let mut built = build(mesh, radiosity, FACET_ANGLE_DEG, open);
     built.extrapolate_borders(mesh, radiosity);
     built.lit
 }
@@ -173,8 +173,12 @@ impl Built {
     }
 }
 
-/// The lit mesh with vertices of one place sharing their values within `angle` degrees.
-fn build(mesh: &Mesh, radiosity: &[Rgb], angle: f32) -> Built {
+/// The lit mesh with vertices of one place sharing their values within `angle` degrees, each
+/// the mean of the elements around it weighted by their areas, or by their open areas (the
+/// area times the open fraction `open[e]`, [`crate::formfactor::exposure`]): a vertex on a
+/// block's footprint then shows the floor in the open, not its mean with the floor under the
+/// block.
+fn build(mesh: &Mesh, radiosity: &[Rgb], angle: f32, open: Option<&[f64]>) -> Built {
     assert_eq!(radiosity.len(), mesh.element_count());
     let key = VertexKey::new(mesh);
     let surfaces = surfaces(mesh);
@@ -191,7 +195,7 @@ fn build(mesh: &Mesh, radiosity: &[Rgb], angle: f32) -> Built {
         let node = &mesh.nodes[n as usize];
         let patch = &mesh.patches[node.patch as usize];
         let surface = surfaces[node.patch as usize];
-        let area = node.area();
+        let area = node.area() * open.map_or(1.0, |u| u[e]);
         for &p in node.face.corners() {
             let k = key.of(p);
             let place = (patch.object, patch.back, k);
@@ -545,7 +549,7 @@ mod tests {
             .map(|e| Rgb::splat(if mesh.element(e).patch == 0 { 1.0 } else { 3.0 }))
             .collect();
         let smooth = lit_mesh_extrapolating_borders(&mesh, &b);
-        let faceted = lit_mesh_faceted(&mesh, &b);
+        let faceted = lit_mesh_faceted(&mesh, &b, None);
         assert_eq!(faceted.positions, smooth.positions);
         assert_eq!(faceted.triangles, smooth.triangles);
         for (t, tri) in faceted.triangles.iter().enumerate() {
@@ -576,6 +580,32 @@ mod tests {
             .position(|&p| p == Vec3::new(0.5, 0.5, 0.0))
             .unwrap();
         assert_eq!(lit.radiosity[centre], Rgb::splat(2.5));
+    }
+
+    /// A vertex where a floor in the open meets floor buried under a block shows the open
+    /// floor's light: weighted by open area, the buried elements (open fraction 0) count
+    /// nothing, a half-open one half.
+    #[test]
+    fn vertex_value_weighs_open_area() {
+        let mesh = Mesh::build(&square(), Subdivision::Elements(4));
+        let b = [1.0, 2.0, 3.0, 4.0].map(Rgb::splat);
+        let centre = |lit: &LitMesh| {
+            let k = lit
+                .positions
+                .iter()
+                .position(|&p| p == Vec3::new(0.5, 0.5, 0.0))
+                .unwrap();
+            lit.radiosity[k].x
+        };
+        let open = [1.0, 0.0, 0.5, 0.0];
+        let lit = lit_mesh_faceted(&mesh, &b, Some(&open));
+        assert!(
+            (centre(&lit) - (1.0 + 0.5 * 3.0) / 1.5).abs() < 1e-9,
+            "{}",
+            centre(&lit)
+        );
+        let all = lit_mesh_faceted(&mesh, &b, None);
+        assert!((centre(&all) - 2.5).abs() < 1e-9, "{}", centre(&all));
     }
 
     #[test]
