@@ -216,9 +216,11 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub frame: FrameArgs,
     /// Antialiasing samples per pixel, taken as an s×s grid: a square, 1, 4, 9, ... 64
-    /// (others are refused). Default: 64 with `--mode final` (it evaluates the light once per
-    /// pixel and surface and uses the samples for the edges' coverage) and `--mode radiosity`
-    /// (rasterized); 4 with `raytrace` and `local`.
+    /// (others are refused). With `--mode final` (default 16) they are the first pass that
+    /// finds the edges: it evaluates the light once per pixel and surface, and a pixel whose
+    /// samples, or its neighbours' next to it, see more than one surface is sampled again for
+    /// its coverage (16×16, refined to 64×64 where the surface changes). Default 64 with
+    /// `--mode radiosity` (rasterized); 4 with `raytrace` and `local`.
     #[arg(long, value_parser = square_samples)]
     pub samples: Option<u32>,
     /// Exposure of .png outputs in stops (radiance × 2^STOPS); default: automatic (the

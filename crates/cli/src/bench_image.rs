@@ -25,10 +25,10 @@ use crate::bars::Bars;
 
 /// The configurations measured: a name and the `render` flags that make it.
 const CONFIGURATIONS: [(&str, &[&str]); 10] = [
-    ("default (--mode final, 64 samples)", &[]),
+    ("default (--mode final, 16 samples)", &[]),
     (
-        "--mode final --samples 16",
-        &["--mode", "final", "--samples", "16"],
+        "--mode final --samples 64",
+        &["--mode", "final", "--samples", "64"],
     ),
     (
         "--mode final --elements 16000",

@@ -42,6 +42,7 @@
 //! **Sampling.** s × s jittered samples per pixel, parallel over tiles, hashed random numbers:
 //! the image is the same for any number of threads ([`sample`]).
 
+pub mod coverage;
 pub mod evaluate;
 pub mod optics;
 pub mod sample;
@@ -49,9 +50,10 @@ pub mod world;
 
 use glam::Vec3;
 
+use self::coverage::{render_covered, Kind};
 use self::evaluate::Evaluation;
 use self::optics::{fresnel_dielectric, reflect, refract};
-use self::sample::{grid_side, pixel_samples, render_pixels, render_tiles, Sampler};
+use self::sample::{grid_side, render_tiles, Sampler};
 use self::world::{SurfaceHit, World};
 use super::{Image, Projection, RasterSettings};
 use crate::mesh::{LitMesh, Mesh};
@@ -144,37 +146,41 @@ fn trace_image(
     }
 }
 
+/// A primary ray of the evaluated image and what it hit.
+struct Probe {
+    origin: Vec3,
+    dir: Vec3,
+    hit: Option<SurfaceHit>,
+    sampler: Sampler,
+}
+
 /// A pixel's primary rays that hit one side of one diffuse patch: evaluated once, at their
 /// mean point.
-struct Coverage {
+struct Group {
     patch: u32,
     front: bool,
-    /// The first ray's hit, and the sum of the others' offsets from it: summed as they are,
-    /// 4 096 points a few hundred units from the origin lose a tenth of a unit to rounding in
-    /// `f32`, enough to put a crease pixel's mean point behind its own surface.
+    /// The first ray's hit, and the weighted sum of the others' offsets from it: summed as
+    /// they are, 4 096 points a few hundred units from the origin lose a tenth of a unit to
+    /// rounding in `f32`, enough to put a crease pixel's mean point behind its own surface.
     first: Vec3,
     offsets: Vec3,
     normal: Vec3,
+    weight: u32,
     sampler: Sampler,
-    /// Each ray's lit-mesh point (for the interpolated far part) and emitted radiance.
-    rays: Vec<((u32, f32, f32), Rgb)>,
+    /// Each ray's lit-mesh point (for the interpolated far part), emitted radiance and weight.
+    rays: Vec<((u32, f32, f32), Rgb, u32)>,
 }
-
-/// Side of the grid of primary rays in a pixel of the evaluated image that more than one
-/// surface (or the background) covers. Coverage of a partly covered pixel by the default 8 × 8
-/// jittered grid is uncertain by a few per cent of the pixel, which was a quarter of the Cornell
-/// box's remaining block error at 16 000 elements (the box's front edges, +10–17 %).
-const EDGE_SIDE: u32 = 16;
 
 /// The evaluated image ([`evaluate`]), its pixels antialiased by coverage: every primary ray
 /// finds what it hits, but the costly evaluation at the point (exact direct light with shadow
-/// rays, the near field) runs once per pixel and surface side, at the mean of the rays that
-/// hit it; each ray adds its own interpolated far part and emission. Edges get the coverage of
-/// all the pixel's samples (a path tracer's box-filtered edges take hundreds) at the cost of
-/// about one evaluation per pixel. Mirrors and glass are traced ray by ray. The diffuse light
-/// is evaluated with the facet's own normal, not the interpolated shading normal: the solution
-/// lit the facets as they are, and a path tracer shows a mesh without shading normals so (the
-/// closed-mesh scene's blob: 8.2 → 7.1 % against Mitsuba 3, the blob itself within 0.5 %).
+/// rays, the near field) runs once per pixel and surface side, at the weighted mean of the rays
+/// that hit it; each ray adds its own interpolated far part and emission. Where the surface
+/// changes, the rays are spent on the coverage ([`coverage`]: a 64 × 64 grid along the edges,
+/// the first pass's s × s elsewhere), at the cost of about one evaluation per pixel. Mirrors
+/// and glass are traced ray by ray. The diffuse light is evaluated with the facet's own normal,
+/// not the interpolated shading normal: the solution lit the facets as they are, and a path
+/// tracer shows a mesh without shading normals so (the closed-mesh scene's blob: 8.2 → 7.1 %
+/// against Mitsuba 3, the blob itself within 0.5 %).
 fn render_evaluated(
     tracer: &Tracer,
     evaluation: &Evaluation,
@@ -184,71 +190,88 @@ fn render_evaluated(
 ) -> Option<Image> {
     let world = tracer.world;
     let proj = Projection::new(camera, image.width, image.height);
-    let side = grid_side(image.samples_per_pixel);
-    // The rays of one pixel on an s × s grid: the traced radiance of those that met no plain
-    // diffuse surface, the others grouped by surface side, and how many kinds of hit there were.
-    let cover = |x: u32, y: u32, side: u32| {
-        let mut traced = Rgb::ZERO;
-        let mut others = false;
-        let mut groups: Vec<Coverage> = Vec::new();
-        for (px, py, mut sampler) in pixel_samples(x, y, side, tracer.settings.jitter) {
-            let (origin, dir) = proj.primary_ray(px, py);
-            let hit = world.intersect(origin, dir, f32::INFINITY);
-            let plain = |h: &SurfaceHit| !world.material(h.triangle).is_specular();
-            let Some((hit, d)) = hit.filter(plain).and_then(|h| h.diffuse.map(|d| (h, d))) else {
-                traced += tracer.trace(origin, dir, 0, Rgb::ONE, &mut sampler);
-                others = true;
+    let shoot = |px: f32, py: f32, sampler: Sampler| {
+        let (origin, dir) = proj.primary_ray(px, py);
+        let hit = world.intersect(origin, dir, f32::INFINITY);
+        let kind = hit.as_ref().map_or(Kind::Background, |h| Kind::Surface {
+            patch: world.patch(h.triangle),
+            front: h.front,
+        });
+        let probe = Probe {
+            origin,
+            dir,
+            hit,
+            sampler,
+        };
+        (kind, probe)
+    };
+    // The traced radiance of the rays that met no plain diffuse surface, the others grouped by
+    // surface side and evaluated once per group.
+    let shade = |probes: Vec<(Probe, u32)>, total: u32| {
+        let mut sum = Rgb::ZERO;
+        let mut groups: Vec<Group> = Vec::new();
+        for (mut probe, weight) in probes {
+            // The background is black.
+            let Some(hit) = probe.hit else {
+                continue;
+            };
+            let plain = !world.material(hit.triangle).is_specular();
+            let Some(d) = hit.diffuse.filter(|_| plain) else {
+                let traced = tracer.trace(probe.origin, probe.dir, 0, Rgb::ONE, &mut probe.sampler);
+                sum += traced * f64::from(weight);
                 continue;
             };
             let patch = world.patch(hit.triangle);
             let emitted = world.emitted(&hit);
+            let w = weight as f32;
             match groups
                 .iter_mut()
                 .find(|g| g.patch == patch && g.front == hit.front)
             {
                 Some(g) => {
-                    g.offsets += hit.point - g.first;
-                    g.normal += hit.normal;
-                    g.rays.push((d, emitted));
+                    g.offsets += (hit.point - g.first) * w;
+                    g.normal += hit.normal * w;
+                    g.weight += weight;
+                    g.rays.push((d, emitted, weight));
                 }
-                None => groups.push(Coverage {
+                None => groups.push(Group {
                     patch,
                     front: hit.front,
                     first: hit.point,
                     offsets: Vec3::ZERO,
-                    normal: hit.normal,
-                    sampler,
-                    rays: vec![(d, emitted)],
+                    normal: hit.normal * w,
+                    weight,
+                    sampler: probe.sampler,
+                    rays: vec![(d, emitted, weight)],
                 }),
             }
         }
-        let kinds = groups.len() + usize::from(others);
-        (traced, groups, kinds)
-    };
-    render_pixels(image.width, image.height, watch, |x, y| {
-        let (mut sum, mut groups, kinds) = cover(x, y, side);
-        let mut n = side;
-        if kinds > 1 && side < EDGE_SIDE {
-            (sum, groups, _) = cover(x, y, EDGE_SIDE);
-            n = EDGE_SIDE;
-        }
         for mut g in groups {
-            let count = g.rays.len() as f32;
+            let weight = g.weight as f32;
             let (at_point, share) = evaluation.radiosity(
                 world,
                 world.mesh(),
-                g.first + g.offsets / count,
-                g.normal.normalize_or(g.normal / count),
+                g.first + g.offsets / weight,
+                g.normal.normalize_or(g.normal / weight),
                 (g.patch, g.rays[0].0),
                 tracer.settings.shadow_samples,
                 &mut g.sampler,
             );
-            for (d, emitted) in g.rays {
-                sum += evaluated_radiance(emitted, at_point, world.radiance(d), share);
+            for (d, emitted, w) in g.rays {
+                sum +=
+                    evaluated_radiance(emitted, at_point, world.radiance(d), share) * f64::from(w);
             }
         }
-        sum / f64::from(n * n)
-    })
+        sum / f64::from(total)
+    };
+    render_covered(
+        (image.width, image.height),
+        grid_side(image.samples_per_pixel),
+        tracer.settings.jitter,
+        watch,
+        shoot,
+        shade,
+    )
 }
 
 /// The radiance of an evaluated diffuse point ([`evaluate`]): its emission, the radiosity

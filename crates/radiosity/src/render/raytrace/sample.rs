@@ -11,6 +11,8 @@
 //! the second. Cosine-weighted hemisphere directions come from
 //! [`crate::sampling::cosine_direction`].
 
+use std::ops::Range;
+
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -91,52 +93,75 @@ where
 }
 
 /// The s × s sample points (px, py) of pixel (x, y), each with its own random stream (whose
-/// first two draws placed it, when `jitter`).
+/// first two draws placed it, when `jitter`): sample k = j·s + i is [`grid_sample`] (i, j)
+/// keyed k.
 pub fn pixel_samples(
     x: u32,
     y: u32,
     side: u32,
     jitter: bool,
 ) -> impl Iterator<Item = (f32, f32, Sampler)> {
-    (0..side * side).map(move |k| {
-        let (i, j) = (k % side, k / side);
-        let mut sampler = Sampler::new(x, y, k);
-        let (dx, dy) = if jitter {
-            (sampler.next_f32(), sampler.next_f32())
-        } else {
-            (0.5, 0.5)
-        };
-        let px = x as f32 + (i as f32 + dx) / side as f32;
-        let py = y as f32 + (j as f32 + dy) / side as f32;
-        (px, py, sampler)
-    })
+    (0..side * side).map(move |k| grid_sample(x, y, side, (k % side, k / side), k, jitter))
 }
 
-/// Renders a `width` × `height` image whose pixel (x, y) is `pixel(x, y)`. Tiles of 16 × 16
-/// pixels run in parallel; the result does not depend on the number of threads. `None` if
-/// `watch` was told to stop before the last tile.
+/// The sample point (px, py) in sub-square (i, j) of the `side` × `side` grid over pixel
+/// (x, y), with the random stream of sample `key` of the pixel: its first two draws place the
+/// point in the sub-square when `jitter`, else it sits at the centre. Distinct samples of a
+/// pixel need distinct keys.
+#[must_use]
+pub fn grid_sample(
+    x: u32,
+    y: u32,
+    side: u32,
+    (i, j): (u32, u32),
+    key: u32,
+    jitter: bool,
+) -> (f32, f32, Sampler) {
+    let mut sampler = Sampler::new(x, y, key);
+    let (dx, dy) = if jitter {
+        (sampler.next_f32(), sampler.next_f32())
+    } else {
+        (0.5, 0.5)
+    };
+    let px = x as f32 + (i as f32 + dx) / side as f32;
+    let py = y as f32 + (j as f32 + dy) / side as f32;
+    (px, py, sampler)
+}
+
+/// Renders a `width` × `height` image whose pixel (x, y) is `pixel(x, y)`, in parallel over
+/// the tiles of [`render_blocks`].
 pub fn render_pixels<F>(width: u32, height: u32, watch: &Watch, pixel: F) -> Option<Image>
 where
     F: Fn(u32, u32) -> Rgb + Sync,
+{
+    render_blocks(width, height, watch, |xs, ys| {
+        ys.flat_map(|y| xs.clone().map(move |x| (x, y)))
+            .map(|(x, y)| pixel(x, y))
+            .collect()
+    })
+}
+
+/// Renders a `width` × `height` image by tiles of 16 × 16 pixels (fewer at the right and
+/// bottom borders): `tile(xs, ys)` returns the pixels of columns `xs` and rows `ys`, row by row.
+/// Tiles run in parallel; the result does not depend on the number of threads. `None` if
+/// `watch` was told to stop before the last tile.
+pub fn render_blocks<F>(width: u32, height: u32, watch: &Watch, tile: F) -> Option<Image>
+where
+    F: Fn(Range<u32>, Range<u32>) -> Vec<Rgb> + Sync,
 {
     let mut image = Image::new(width, height);
     let (tiles_x, tiles_y) = (width.div_ceil(TILE), height.div_ceil(TILE));
     watch.progress.start("render", u64::from(tiles_x * tiles_y));
     let tiles: Vec<(u32, Vec<Rgb>)> = (0..tiles_x * tiles_y)
         .into_par_iter()
-        .map(|tile| {
+        .map(|t| {
             if watch.stopped() {
-                return (tile, Vec::new());
+                return (t, Vec::new());
             }
-            let (x0, y0) = ((tile % tiles_x) * TILE, (tile / tiles_x) * TILE);
-            let mut out = Vec::with_capacity((TILE * TILE) as usize);
-            for y in y0..(y0 + TILE).min(height) {
-                for x in x0..(x0 + TILE).min(width) {
-                    out.push(pixel(x, y));
-                }
-            }
+            let (x0, y0) = ((t % tiles_x) * TILE, (t / tiles_x) * TILE);
+            let out = tile(x0..(x0 + TILE).min(width), y0..(y0 + TILE).min(height));
             watch.progress.advance(1);
-            (tile, out)
+            (t, out)
         })
         .collect();
     watch.progress.finish();
