@@ -101,15 +101,15 @@ pub struct HemicubeArgs {
 }
 
 /// `--quality`: presets of the subdivision and of hierarchical radiosity's ε, measured on the
-/// evaluated picture (`render`, 256², against Mitsuba 3's, 4 × 4-pixel blocks, 5 December;
+/// evaluated picture (`render`, 256², against Mitsuba 3's, 4 × 4-pixel blocks, 6 December;
 /// docs/raytracing.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Quality {
-    /// About 4 096 elements, or ε = 10⁻⁴ where hierarchical radiosity is chosen: the Cornell
-    /// box 0.71 % in 7 s, the furnished room 0.36 % in 15 s.
+    /// ε = 10⁻⁴ (hierarchical radiosity), or about 4 096 elements where a uniform mesh is asked
+    /// for: the Cornell box 0.75 % in 3.4 s, the furnished room 0.35 % in 15 s.
     Default,
-    /// About 16 000 elements, or ε = 3·10⁻⁵: the Cornell box 0.49 % in 31 s (its reference's
-    /// own noise is 0.21 %), the furnished room 0.33 % in 28 s (0.15 %).
+    /// ε = 3·10⁻⁵, or about 16 000 elements: the Cornell box 0.54 % in 7 s (its reference's
+    /// own noise is 0.21 %), the furnished room 0.32 % in 27 s (0.15 %).
     Final,
 }
 
@@ -565,7 +565,10 @@ pub enum Solver {
     /// Hierarchical radiosity with clustering; refines the elements on demand (`--epsilon`,
     /// `--min-element-area`).
     Hierarchical,
-    /// Chosen from the scene's size and the memory budget.
+    /// Hierarchical radiosity, unless `--elements`, `--max-element-area`, `--sources` or a
+    /// form-factor option asks for a uniform mesh and its matrix: then Gauss-Seidel while the
+    /// matrix fits the memory budget (hierarchical or progressive beyond it; many small faces
+    /// go hierarchical).
     Auto,
 }
 

@@ -185,8 +185,11 @@ fn scene_rows(
         display: pipeline::Display::Averaged,
         form_factors: formfactor::Settings::of(ff),
         solve: solve::Settings::default(),
+        // The automatic choice as `radiosity solve SCENE [--form-factors FF]` makes it.
         method: match solver {
-            SuiteSolver::Auto => None,
+            SuiteSolver::Auto => {
+                solve::plan::unsized_method(ff != formfactor::Settings::default().method())
+            }
             SuiteSolver::Method(m) => Some(m),
         },
     };

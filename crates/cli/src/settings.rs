@@ -51,7 +51,7 @@ pub fn pipeline_settings(common: &CommonArgs) -> anyhow::Result<pipeline::Settin
         Solver::GaussSeidel => Some(solve::Method::GaussSeidel),
         Solver::Progressive => Some(solve::Method::Progressive),
         Solver::Hierarchical => Some(solve::Method::Hierarchical),
-        Solver::Auto => None,
+        Solver::Auto => solve::plan::unsized_method(asks_for_a_mesh(common)),
     };
     if let Some(epsilon) = common.solver.epsilon {
         settings.solve.epsilon = epsilon;
@@ -69,6 +69,20 @@ pub fn pipeline_settings(common: &CommonArgs) -> anyhow::Result<pipeline::Settin
         settings.solve.max_matrix_bytes = bytes;
     }
     Ok(settings)
+}
+
+/// Whether the options size the uniform mesh or set up its form-factor matrix (`--elements`,
+/// `--max-element-area`, `--sources`, the form-factor options): then the automatic choice is
+/// made for that mesh ([`solve::plan`]); otherwise hierarchical radiosity sizes its own.
+fn asks_for_a_mesh(common: &CommonArgs) -> bool {
+    let (mesh, ff) = (&common.mesh, &common.form_factors);
+    mesh.elements.is_some()
+        || mesh.max_element_area.is_some()
+        || mesh.sources.is_some()
+        || ff.form_factors.is_some()
+        || ff.quadrature.is_some()
+        || ff.rays.is_some()
+        || ff.hemicube_resolution.is_some()
 }
 
 /// The form-factor method's settings: its defaults, with the options given. An option that
@@ -163,6 +177,31 @@ mod tests {
         assert_eq!(epsilon(&[]), solve::Settings::default().epsilon);
         assert_eq!(epsilon(&["--quality", "final"]), FINAL_EPSILON);
         assert_eq!(epsilon(&["--quality", "final", "--epsilon", "0.001"]), 1e-3);
+    }
+
+    #[test]
+    fn hierarchical_radiosity_unless_a_mesh_or_its_matrix_is_asked_for() {
+        let method = |args: &[&str]| settings(args).method;
+        let hierarchical = Some(solve::Method::Hierarchical);
+        assert_eq!(method(&[]), hierarchical);
+        assert_eq!(
+            method(&["--quality", "final", "--epsilon", "1e-5"]),
+            hierarchical
+        );
+        for asked in [
+            &["--elements", "500"][..],
+            &["--max-element-area", "2"],
+            &["--sources", "1024"],
+            &["--form-factors", "hemicube"],
+            &["--rays", "16"],
+            &["--quadrature", "3"],
+        ] {
+            assert_eq!(method(asked), None, "{asked:?}: the automatic choice");
+        }
+        assert_eq!(
+            method(&["--elements", "500", "--solver", "jacobi"]),
+            Some(solve::Method::Jacobi)
+        );
     }
 
     #[test]

@@ -105,6 +105,12 @@ use crate::{Rgb, Scene};
 /// The far part's radiosity is divided by the share of the view left to it; never by less.
 const MIN_FAR_SHARE: f64 = 0.05;
 
+/// The indirect light of an element less open than this (a floor element all but buried under
+/// a block) is divided by this, not by its open fraction: the open fraction is taken on a 4 × 4
+/// grid of points and the solution's whole-area mean on the solver's own, so over a small open
+/// share their ratio is mostly the two grids' disagreement.
+const MIN_OPEN: f64 = 0.25;
+
 /// What the evaluated render adds at a diffuse point: the exact direct light and the near part
 /// of the indirect light.
 #[derive(Debug)]
@@ -146,6 +152,7 @@ impl Evaluation {
         world: &World,
         mesh: &Mesh,
         (radiosity, reflected): (&[Rgb], Option<&[Rgb]>),
+        open: &[f64],
         samples: u32,
     ) -> Vec<Rgb> {
         let direct: Vec<[Rgb; PIECES]> = (0..mesh.element_count())
@@ -167,10 +174,10 @@ impl Evaluation {
             })
             .collect();
         let solution = (radiosity, reflected);
-        let first = far_radiosity(mesh, solution, &self.near, &direct, None);
+        let first = far_radiosity(mesh, solution, open, &self.near, &direct, None);
         self.near.values = first.iter().map(|f| f.pieces).collect();
         let first: Vec<Option<Far>> = first.iter().map(|f| (!f.by_pieces).then_some(*f)).collect();
-        let split = far_radiosity(mesh, solution, &self.near, &direct, Some(&first));
+        let split = far_radiosity(mesh, solution, open, &self.near, &direct, Some(&first));
         let scale: Vec<Rgb> = split.iter().map(|f| f.scale).collect();
         self.scale = display::lit_mesh_faceted(mesh, &scale, None).radiosity;
         split.iter().map(|f| f.far).collect()
@@ -216,7 +223,7 @@ fn prepare(
     let world = World::new(scene, mesh, &full);
     let reflected = solution.reflected_irradiance.as_deref();
     let open = exposure::open_fraction(mesh, &Bvh::build(&mesh.triangles), &mesh.elements);
-    let far = evaluation.settle(&world, mesh, (radiosity, reflected), samples);
+    let far = evaluation.settle(&world, mesh, (radiosity, reflected), &open, samples);
     let lit = display::lit_mesh_faceted(mesh, &far, Some(&open));
     (evaluation, full, lit)
 }
@@ -254,6 +261,7 @@ struct Far {
 fn far_radiosity(
     mesh: &Mesh,
     (radiosity, reflected): (&[Rgb], Option<&[Rgb]>),
+    open: &[f64],
     near_field: &NearField,
     direct: &[[Rgb; PIECES]],
     known: Option<&[Option<Far>]>,
@@ -284,7 +292,7 @@ fn far_radiosity(
             let indirect = match reflected {
                 Some(h) => patch.reflectance * h[e],
                 None => radiosity[e] - patch.emission - lit,
-            };
+            } / open[e].max(MIN_OPEN);
             let left = (1.0 - share).max(MIN_FAR_SHARE);
             let (mut far, mut scale) = (Rgb::ZERO, Rgb::ONE);
             for c in 0..3 {
@@ -362,7 +370,8 @@ vertices = [[-0.1, 2, -0.1], [0.1, 2, -0.1], [0.1, 2, 0.1], [-0.1, 2, 0.1]]
             near: NearField::new(&mesh, &radiosity),
             scale: Vec::new(),
         };
-        let far = evaluation.settle(&world, &mesh, (&radiosity, None), 16);
+        let open = vec![1.0; mesh.element_count()];
+        let far = evaluation.settle(&world, &mesh, (&radiosity, None), &open, 16);
         let mut clamped = 0;
         for e in 0..mesh.element_count() {
             let at = &evaluation.near.pieces[e];
