@@ -68,16 +68,17 @@
 //! shaded half of the closed-mesh scene's blob came out as one smooth gradient where Mitsuba 3
 //! shows its facets (the blob's blocks 12 → 0.5 %).
 //!
-//! Each vertex of R's lit mesh is the mean of its elements weighted by their *open* areas (the
-//! open fraction of [`crate::formfactor::exposure`]): a floor element wholly or partly under a
-//! block has a whole-area mean darkened by its buried part, and averaged in by its area it
-//! drew a dark line along every contact of a block with the floor (the short block's side
-//! face against the floor, 10–25 % too dark in the pixels on the line at 256²). Weighted by
-//! open area, the Cornell box at 256² against Mitsuba 3: Gauss-Seidel 0.711 → 0.701 %,
-//! hierarchical 1.195 → 0.940 %, the furnished room unchanged (0.36 %). (Dividing each
-//! element's indirect light by its open fraction as well, to show the open part's mean, took
-//! hierarchical radiosity's box to 0.78 % but Gauss-Seidel's to 0.72 %, the bottom of the short
-//! block's front face, already a few per cent too bright, brighter still: not taken.)
+//! A floor element wholly or partly under a block (the blocks have no bottom face) has a
+//! whole-area mean darkened by its buried part, and averaged in by its area it drew a dark
+//! line along every contact of a block with the floor (the short block's side face against the
+//! floor, 10–25 % too dark in the pixels on the line at 256²). So each vertex of R's lit mesh is
+//! the mean of its elements weighted by their *open* areas (the open fraction u of
+//! [`crate::formfactor::exposure`]), and an element's indirect light B_i is taken over its open
+//! part, B_i / max(u, [`MIN_OPEN`]), as the buried part has none. The Cornell box at 256²
+//! against Mitsuba 3, weights alone / and the division: hierarchical radiosity 1.195 → 0.940 /
+//! 0.75 %, Gauss-Seidel 0.711 → 0.701 / 0.72 % (with the adaptive edge coverage 0.66 / 0.68 %:
+//! the bottom of the short block's front face, already a few per cent too bright, grows brighter
+//! as the floor in front of it does), the furnished room 0.36 → 0.36 / 0.35 %.
 //!
 //! The solve stays viewer-independent; only the picture is evaluated per point. Mirrors and
 //! glass are traced as by [`super::render`].
