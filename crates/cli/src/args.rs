@@ -106,10 +106,10 @@ pub struct HemicubeArgs {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Quality {
     /// ε = 10⁻⁴ (hierarchical radiosity), or about 4 096 elements where a uniform mesh is asked
-    /// for: the Cornell box 0.75 % in 3.4 s, the furnished room 0.35 % in 15 s.
+    /// for: the Cornell box 0.75 % in 3.6 s, the furnished room 0.35 % in 16 s.
     Default,
     /// ε = 3·10⁻⁵, or about 16 000 elements: the Cornell box 0.54 % in 7 s (its reference's
-    /// own noise is 0.21 %), the furnished room 0.32 % in 27 s (0.15 %).
+    /// own noise is 0.21 %), the furnished room 0.33 % in 30 s (0.15 %).
     Final,
 }
 
