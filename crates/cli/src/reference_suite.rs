@@ -185,7 +185,9 @@ fn scene_rows(
         display: pipeline::Display::Averaged,
         form_factors: formfactor::Settings::of(ff),
         solve: solve::Settings::default(),
-        // The automatic choice as `radiosity solve SCENE [--form-factors FF]` makes it.
+        // The automatic choice as the command line makes it: `radiosity solve SCENE` for the
+        // default form factors, `radiosity solve SCENE --form-factors FF` for the others (the
+        // default method named explicitly would also count as asking for a uniform mesh).
         method: match solver {
             SuiteSolver::Auto => {
                 solve::plan::unsized_method(ff != formfactor::Settings::default().method())
