@@ -183,6 +183,33 @@ pub fn read_pfm(path: &Path) -> Result<Image, ImageError> {
     })
 }
 
+/// Reads a linear image: PFM, or OpenEXR (its first RGB(A) layer, alpha ignored), by extension.
+///
+/// # Errors
+/// As [`read_pfm`]; an EXR that cannot be decoded is [`ImageError::Format`].
+pub fn read_image(path: &Path) -> Result<Image, ImageError> {
+    let is_exr = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if !is_exr {
+        return read_pfm(path);
+    }
+    exr::prelude::read_first_rgba_layer_from_file(
+        path,
+        |size, _| Image::new(size.width() as u32, size.height() as u32),
+        |img: &mut Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            let i = pos.y() * img.width as usize + pos.x();
+            img.pixels[i] = Rgb::new(r.into(), g.into(), b.into());
+        },
+    )
+    .map(|read| read.layer_data.channel_data.pixels)
+    .map_err(|e| ImageError::Format {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })
+}
+
 fn parse_pfm(bytes: &[u8]) -> Result<Image, String> {
     // Header: four whitespace-separated tokens, then exactly one whitespace byte.
     let mut tokens = Vec::with_capacity(4);
