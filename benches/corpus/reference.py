@@ -43,6 +43,7 @@ import collections
 import importlib.util
 import json
 import math
+import os
 import pathlib
 import re
 import sys
@@ -293,6 +294,7 @@ def make_variant(src, width, max_depth, environment=None, environment_to_world=N
     # Only the outermost BSDFs are replaced (the nested ones live inside them).
     outer = [e for e in root.iter("bsdf") if parents.get(e) is not None
              and parents[e].tag != "bsdf"]
+
     def replacement(e, attrs):
         kind, rho, two, chain = m.approximate(e)
         new = ET.Element("bsdf", {"type": "null" if kind == "null" else
@@ -429,10 +431,11 @@ def block_error(image, reference, k=4):
 
 
 def render(scene, spp, seed):
+    """(image, wall seconds, CPU seconds of this process: every Dr.Jit thread's)."""
     import mitsuba as mi
-    t = time.time()
+    t, c = time.time(), time.process_time()
     img = np.array(mi.render(scene, spp=spp, seed=seed), dtype=np.float64)[..., :3]
-    return img, time.time() - t
+    return img, time.time() - t, time.process_time() - c
 
 
 def write_image(path, rgb):
@@ -464,14 +467,14 @@ def load_average():
     return float(open("/proc/loadavg").read().split()[0])
 
 
-def time_to_error(ladder, e, key="error_net"):
+def time_to_error(ladder, e, key="error_net", clock="seconds"):
     """Mitsuba's time to reach block error `e`, by interpolation of the ladder on log-log
     (error proportional to t^(-1/k) between two rungs); beyond the ladder, the power law fitted
     over all rungs (least squares of log t on log e) extrapolates. `key`: the rungs' error
     with the reference's own noise removed in quadrature ("error_net"), or as measured
-    ("error"); rungs whose net error is 0 (within the reference's noise) are left out. Returns
-    (seconds, extrapolated)."""
-    pts = sorted((r["seconds"], r.get(key, r["error"])) for r in ladder)
+    ("error"); `clock`: "seconds" (wall) or "cpu_seconds". Rungs whose net error is 0
+    (within the reference's noise) are left out. Returns (seconds, extrapolated)."""
+    pts = sorted((r[clock], r.get(key, r["error"])) for r in ladder)
     pts = [p for p in pts if p[0] > 0 and p[1] > 0]  # a rung within the noise tells nothing
     if len(pts) < 2:
         raise ValueError("the ladder needs two rungs")
@@ -487,6 +490,23 @@ def time_to_error(ladder, e, key="error_net"):
     slope = (sum((a - mx) * (b - my) for a, b in zip(le, lt))
              / sum((a - mx) ** 2 for a in le))  # -k
     return math.exp(my + slope * (x - mx)), True
+
+
+def table(folder):
+    """The Markdown table of the references in `folder` (their JSON files)."""
+    rows = ["| scene | size | file | spp (passes x spp) | noise (4x4 RMS, p99) | render s | "
+            "load avg | ladder: spp, s, error (net) |", "|---|---|---|---|---|---|---|---|"]
+    for js in sorted(pathlib.Path(folder).glob("*.json")):
+        d = json.loads(js.read_text())
+        lad = "; ".join(f"{r['spp']}: {r['seconds']:.1f} s, {r['error'] * 100:.2f} % "
+                        f"({r['error_net'] * 100:.2f} %)" for r in d.get("ladder", []))
+        la = d.get("load_average", [])
+        rows.append(
+            f"| {d['scene']} | {d['width']} x {d['height']} | {d['file_bytes']:,} B | "
+            f"{d['spp']} ({d['passes']} x {d['spp_per_pass']}) | {d['noise'] * 100:.2f} %, "
+            f"{d['noise_p99'] * 100:.1f} % | {d['render_seconds']:.0f} | "
+            f"{'-'.join(f'{x:.1f}' for x in la)} | {lad} |")
+    return "\n".join(rows)
 
 
 def main():
@@ -527,16 +547,23 @@ def main():
     p.add_argument("--mitsuba-variant", default="llvm_ad_rgb")
     p.add_argument("--time-to-error", type=float, metavar="E", help="print Mitsuba's time to "
                    "block error E (a fraction: 0.02) from the ladder of the JSON given")
+    p.add_argument("--table", action="store_true", help="print the Markdown table of the "
+                   "references whose JSON files are in the folder given")
     args = p.parse_args()
 
+    if args.table:
+        print(table(pathlib.Path(args.scene)))
+        return
     if args.time_to_error is not None:
         js = pathlib.Path(args.scene)
         if js.is_dir():
             js = pathlib.Path(args.out) / f"{js.resolve().name}.json"
         d = json.loads(js.read_text())
-        secs, extra = time_to_error(d["ladder"], args.time_to_error)
-        print(f"{d['scene']}: {secs:.2f} s to {args.time_to_error * 100:.2f} %"
-              + (" (extrapolated)" if extra else ""))
+        for clock in ("seconds", "cpu_seconds"):
+            if all(clock in r for r in d["ladder"]):
+                secs, extra = time_to_error(d["ladder"], args.time_to_error, clock=clock)
+                print(f"{d['scene']}: {secs:.2f} {'s' if clock == 'seconds' else 'CPU s'} to "
+                      f"{args.time_to_error * 100:.2f} %" + (" (extrapolated)" if extra else ""))
         return
 
     import mitsuba as mi
@@ -577,7 +604,7 @@ def main():
         if args.passes < 2 or args.passes % 2:
             sys.exit("--passes must be even and at least 2")
         halves = [np.zeros((info["height"], info["width"], 3)) for _ in range(2)]
-        seeds, pass_seconds, history = [], [], []
+        seeds, pass_seconds, pass_cpu, history = [], [], [], []
         load0 = load_average()
         noise = noise99 = None
         k = 0
@@ -590,13 +617,15 @@ def main():
                 sys.exit(f"{state}: rendered with other --spp/--seed/--width: {meta}")
             halves = [st["halves"][0], st["halves"][1]]
             seeds, pass_seconds, history = meta["seeds"], meta["pass_seconds"], meta["history"]
+            pass_cpu = meta.get("pass_cpu_seconds", [])
             load0 = meta["load_average"]
             k = len(seeds)
             print(f"  resumed: {k} passes", file=sys.stderr)
         spent, pairs_now = 0.0, 0
         while k < args.passes:
             for j in range(2):  # a pair: one pass into each half-set
-                img, s = render(scene, args.spp, args.seed + 1000 * (k + j))
+                img, s, cpu = render(scene, args.spp, args.seed + 1000 * (k + j))
+                pass_cpu.append(round(cpu, 2))
                 halves[j] += img
                 seeds.append(args.seed + 1000 * (k + j))
                 pass_seconds.append(round(s, 2))
@@ -612,7 +641,8 @@ def main():
                   f"%), {total:.1f} s", file=sys.stderr)
             np.savez(state, halves=np.stack(halves), meta=json.dumps({
                 "spp": args.spp, "seed": args.seed, "seeds": seeds,
-                "pass_seconds": pass_seconds, "history": history, "load_average": load0}))
+                "pass_seconds": pass_seconds, "pass_cpu_seconds": pass_cpu,
+                "history": history, "load_average": load0}))
             if k >= args.min_passes:
                 if args.target_noise and noise <= args.target_noise:
                     break
@@ -632,6 +662,7 @@ def main():
             "noise": round(noise, 6), "noise_p99": round(noise99, 6),
             "noise_by_passes": history,
             "render_seconds": round(sum(pass_seconds), 1), "pass_seconds": pass_seconds,
+            "pass_cpu_seconds": pass_cpu,
             "load_seconds": round(load_seconds, 2),
             "load_average": [load0, load_average()],
             "mean_rgb": [round(float(x), 6) for x in ref.reshape(-1, 3).mean(axis=0)],
@@ -647,6 +678,7 @@ def main():
               f"{record['render_seconds']} s, {record['file_bytes']} bytes", file=sys.stderr)
     if not args.no_ladder:
         warm = render(scene, 1, args.ladder_seed + 7)[1]
+        cores = os.cpu_count()
         ladder = []
         noise = record["noise"]
         spent = 0.0
@@ -656,10 +688,11 @@ def main():
                 if spent + guess > args.ladder_budget:
                     print(f"  ladder: {spp} spp skipped (about {guess:.0f} s)", file=sys.stderr)
                     break
-            img, s = render(scene, spp, args.ladder_seed)
+            img, s, cpu = render(scene, spp, args.ladder_seed)
             spent += s
             e, e99, bias = block_error(img, ref)
-            ladder.append({"spp": spp, "seconds": round(s, 3), "error": round(e, 6),
+            ladder.append({"spp": spp, "seconds": round(s, 3),
+                           "cpu_seconds": round(cpu, 3), "error": round(e, 6),
                            "error_net": round(math.sqrt(max(e * e - noise * noise, 0)), 6),
                            "p99": round(e99, 6), "mean": round(bias, 6),
                            "load_average": load_average()})
@@ -668,6 +701,7 @@ def main():
         record["ladder"] = ladder
         record["ladder_seed"] = args.ladder_seed
         record["ladder_warmup_seconds"] = round(warm, 2)
+        record["cores"] = cores
         record["ladder_load_average"] = load_average()
     js.write_text(json.dumps(record, indent=1) + "\n")
 
