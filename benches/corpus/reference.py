@@ -495,11 +495,12 @@ def time_to_error(ladder, e, key="error_net", clock="seconds"):
 def table(folder):
     """The Markdown table of the references in `folder` (their JSON files)."""
     rows = ["| scene | size | file | spp (passes x spp) | noise (4x4 RMS, p99) | render s | "
-            "load avg | ladder: spp, s, error (net) |", "|---|---|---|---|---|---|---|---|"]
+            "load avg | ladder: spp: wall s (CPU s), error (net of the noise) |", "|---|---|---|---|---|---|---|---|"]
     for js in sorted(pathlib.Path(folder).glob("*.json")):
         d = json.loads(js.read_text())
-        lad = "; ".join(f"{r['spp']}: {r['seconds']:.1f} s, {r['error'] * 100:.2f} % "
-                        f"({r['error_net'] * 100:.2f} %)" for r in d.get("ladder", []))
+        lad = "; ".join(f"{r['spp']}: {r['seconds']:.1f} s ({r.get('cpu_seconds', 0):.1f} "
+                        f"CPU s), {r['error'] * 100:.2f} % ({r['error_net'] * 100:.2f} %)"
+                        for r in d.get("ladder", []))
         la = d.get("load_average", [])
         rows.append(
             f"| {d['scene']} | {d['width']} x {d['height']} | {d['file_bytes']:,} B | "
