@@ -269,7 +269,7 @@ mod tests {
             </scene>"#,
         )
         .unwrap();
-        assert_eq!(s.name.len() > 0, true);
+        assert!(!s.name.is_empty());
         assert_eq!(s.polygons.len(), 6 + 1);
         assert_eq!((s.render.width, s.render.height), (64, 32));
         assert!((s.cameras[0].fov_y - 40.0).abs() < 1e-4);

@@ -321,7 +321,7 @@ impl Daylight {
                 return Err(SceneError::new(format!("{value} is not a scale")).with_key(key));
             }
         }
-        if !(s.sun_radius_deg < 45.0) {
+        if s.sun_radius_deg.is_nan() || s.sun_radius_deg >= 45.0 {
             return Err(SceneError::new(format!(
                 "a sun of radius {}° is not a sun",
                 s.sun_radius_deg

@@ -198,7 +198,7 @@ pub fn rasterize(
     let s = SUBCELLS as usize;
     let d_phi = TAU / (w * s) as f64;
     let d_t = 1.0 / ((h - 1) * s) as f64;
-    let outside = |dir: DVec3| disc.map_or(true, |d| !d.contains(dir));
+    let outside = |dir: DVec3| disc.is_none_or(|d| !d.contains(dir));
     // Σ w L dω and Σ w dω per pixel, over the cells of each band of rows [j, j + 1] (a band's
     // cells touch rows j and j + 1 only, so bands are summed apart and then added).
     let bands: Vec<(Vec<Rgb>, Vec<f64>)> = (0..h - 1)

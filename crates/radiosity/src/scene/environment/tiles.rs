@@ -241,7 +241,7 @@ impl Cube {
                 let l = distant.radiance(dir);
                 q.sum_all += l * omega;
                 q.omega_all += omega;
-                if disc.map_or(true, |d| !d.contains(dir)) {
+                if disc.is_none_or(|d| !d.contains(dir)) {
                     q.sum += l * omega;
                     q.omega += omega;
                     let y = luminance(l);

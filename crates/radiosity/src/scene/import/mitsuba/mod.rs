@@ -60,7 +60,7 @@ pub fn camera(sensor: &Object, name: &str) -> Result<(Camera, RenderDefaults), S
         |o: Option<&std::sync::Arc<Object>>, key: &str, default: u32| -> Result<u32, SceneError> {
             let Some(o) = o else { return Ok(default) };
             let v = o.float(key, f64::from(default))?;
-            if v >= 1.0 && v <= 65_536.0 {
+            if (1.0..=65_536.0).contains(&v) {
                 Ok(v as u32)
             } else {
                 Err(o.error(format!("`{key}` = {v} is not an image size")))
