@@ -715,3 +715,30 @@ fn the_evaluated_render_lights_each_facet_with_its_own_normal() {
     assert!(checked >= 10, "only {checked} facets checked");
     assert!(worst < 0.005, "worst {:.3} %", 100.0 * worst);
 }
+
+#[test]
+fn bitterlis_cornell_box_as_published_meets_the_corpus_goals_against_mitsuba() {
+    // Benedikt Bitterli's Cornell box (CC0), the Mitsuba 3 file as published: its walls are
+    // two-sided rectangles facing out of the room, so the light falls on their back sides, and
+    // its front is open. Against Mitsuba 3's picture of the same file
+    // (benches/corpus/reference.py, 6 144 spp, its own noise 0.43 % in 4 × 4 blocks), rendered
+    // at default settings, the corpus's goals: image RMS ≤ 2 %, 99th-percentile block ≤ 10 %,
+    // mean radiance within 1 %. Measured: 1.46 %, 7.3 %, within 0.1 %.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scene = Scene::load(&dir.join("tests/published/bitterli-cornell-box.xml")).expect("loads");
+    let reference = radiosity::io::image_file::read_image(
+        &dir.join("../../benches/corpus/reference/cornell-box.exr"),
+    )
+    .expect("the committed reference reads");
+    let s = pipeline::solve(scene, &Settings::default(), &Silent).expect("solves");
+    let raster = image(reference.width, 16);
+    let picture = evaluate(&s, &raster, &RaytraceSettings::default());
+    let error = block_error(&picture, &reference, 4).expect("same size");
+    let mean = |img: &Image| img.pixels.iter().fold(Rgb::ZERO, |sum, p| sum + *p);
+    let ratio = mean(&picture) / mean(&reference);
+    assert!(error.rms < 0.02 && error.p99 < 0.1, "{error:?}");
+    assert!(
+        (ratio - Rgb::ONE).abs().max_element() < 0.01,
+        "mean ratio {ratio:?}"
+    );
+}

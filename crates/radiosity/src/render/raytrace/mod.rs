@@ -221,7 +221,8 @@ fn render_evaluated(
                 sum += traced * f64::from(weight);
                 continue;
             };
-            let patch = world.patch(hit.triangle);
+            // The patch of the side seen: a two-sided surface's back twin when seen from behind.
+            let patch = world.patch(d.0);
             let emitted = world.emitted(&hit);
             let w = weight as f32;
             match groups
@@ -343,7 +344,7 @@ impl Tracer<'_> {
                     world.mesh(),
                     hit.point,
                     hit.shading,
-                    (world.patch(hit.triangle), d),
+                    (world.patch(d.0), d),
                     self.settings.shadow_samples,
                     sampler,
                 );
