@@ -8,7 +8,7 @@
 
 use glam::Vec3;
 
-use crate::accel::{Aabb, Bvh};
+use crate::accel::{Aabb, Bvh, Ray};
 use crate::formfactor::analytic::point_to_polygon;
 use crate::mesh::{Face, Mesh};
 use crate::Rgb;
@@ -84,6 +84,8 @@ pub(super) struct NearField {
     pub(super) pieces: Vec<Pieces>,
     /// B − E evaluated at each element's pieces, once the far part is known.
     pub(super) values: Vec<[Rgb; PIECES]>,
+    /// The mesh's surfaces, for the visibility of each near term ([`NearField::sees`]).
+    occluders: Bvh,
 }
 
 /// An element's [`pieces`], as the near field needs them.
@@ -167,7 +169,21 @@ impl NearField {
                 .map(|e| Pieces::of(&mesh.element(e).face))
                 .collect(),
             values: Vec::new(),
+            occluders: Bvh::build(&mesh.triangles),
         }
+    }
+
+    /// Whether the segment from `point` (unit normal `normal`) to `target` on a face of normal
+    /// `target_normal` is clear, both ends lifted off their surfaces. The near field's factors
+    /// are Lambert's without visibility, and a thin wall between a point and a near face
+    /// (a lamp housing lit inside, the wall behind it outside) must stop that face's light.
+    fn sees(&self, point: Vec3, normal: Vec3, target: Vec3, target_normal: Vec3) -> bool {
+        let lift = self.occluders.lift();
+        let from = point + normal * lift;
+        let to = target + target_normal * lift;
+        !self
+            .occluders
+            .occluded(&Ray::new(from, to - from), 1.0 - 1e-4)
     }
 
     /// N(x) at `point` (unit normal `normal`) on patch `patch`, Σ w F, the share of the view
@@ -208,6 +224,7 @@ impl NearField {
             min: low - Vec3::splat(reach),
             max: high + Vec3::splat(reach),
         };
+        let polygon = mesh.patches[patch as usize].polygon;
         let mut open = Vec::new();
         self.bvh.overlapping(&query, |k| {
             let cut = self.nodes[k];
@@ -221,10 +238,15 @@ impl NearField {
                 open.push(cut);
                 while let Some(n) = open.pop() {
                     let shape = &self.shapes[n as usize];
-                    if !in_front(shape, *point) {
+                    let node = &mesh.nodes[n as usize];
+                    // A planar polygon sends nothing to its own points, on either side: its
+                    // back twin lies in the point's plane, and the rounding of a hit point
+                    // can put the point a hair in front of it.
+                    if !in_front(shape, *point)
+                        || mesh.patches[node.patch as usize].polygon == polygon
+                    {
                         continue;
                     }
-                    let node = &mesh.nodes[n as usize];
                     let opened = shape.centroid.distance(*point) < OPEN_WITHIN * shape.diameter;
                     match node.children {
                         Some(c) if opened => open.extend(c..c + 4),
@@ -243,6 +265,9 @@ impl NearField {
                                 let near =
                                     piece.centroid.distance(*point) < SPLIT_WITHIN * piece.diameter;
                                 if near && slope.steep(*value, piece.diameter) {
+                                    if !self.sees(*point, normal, piece.centroid, shape.normal) {
+                                        continue;
+                                    }
                                     let face = pieces(&node.face)[k];
                                     let (s, f) = split_piece(
                                         (&face, shape.normal),
@@ -260,6 +285,11 @@ impl NearField {
                                         *point,
                                         normal,
                                     );
+                                    if f <= 0.0
+                                        || !self.sees(*point, normal, piece.centroid, shape.normal)
+                                    {
+                                        continue;
+                                    }
                                     *sum += *value * (w * f);
                                     *share += w * f;
                                 }
@@ -267,7 +297,11 @@ impl NearField {
                         }
                         _ => {
                             let f = near_factor(|| node.face, shape, *point, normal);
-                            *by_pieces |= opened && f > 0.0;
+                            if f <= 0.0 || !self.sees(*point, normal, shape.centroid, shape.normal)
+                            {
+                                continue;
+                            }
+                            *by_pieces |= opened;
                             *sum += self.reflected[n as usize] * (w * f);
                             *share += w * f;
                         }
@@ -531,6 +565,100 @@ mod tests {
             "{} vs {}",
             same.x,
             0.5 * share
+        );
+    }
+
+    /// A lamp housing: a thin two-sided box 0.2 m wide, open at the bottom, 3 cm in front of
+    /// a wall (z = 0, facing +z), hung over a floor.
+    const HOUSING: &str = r#"
+[materials.wall]
+reflectance = 0.5
+[materials.metal]
+reflectance = 0.5
+two_sided = true
+[[objects]]
+name = "wall"
+material = "wall"
+shape = "polygon"
+vertices = [[-1, 0, 0], [1, 0, 0], [1, 2, 0], [-1, 2, 0]]
+[[objects]]
+name = "housing"
+material = "metal"
+shape = "polygon"
+vertices = [[-0.1, 1.2, 0.03], [0.1, 1.2, 0.03], [0.1, 1.4, 0.03], [-0.1, 1.4, 0.03]]
+[[objects]]
+name = "housing"
+material = "metal"
+shape = "polygon"
+vertices = [[-0.1, 1.2, 0.23], [-0.1, 1.4, 0.23], [0.1, 1.4, 0.23], [0.1, 1.2, 0.23]]
+[[objects]]
+name = "housing"
+material = "metal"
+shape = "polygon"
+vertices = [[-0.1, 1.2, 0.03], [-0.1, 1.4, 0.03], [-0.1, 1.4, 0.23], [-0.1, 1.2, 0.23]]
+[[objects]]
+name = "housing"
+material = "metal"
+shape = "polygon"
+vertices = [[0.1, 1.2, 0.03], [0.1, 1.2, 0.23], [0.1, 1.4, 0.23], [0.1, 1.4, 0.03]]
+[[objects]]
+name = "housing"
+material = "metal"
+shape = "polygon"
+vertices = [[-0.1, 1.4, 0.03], [0.1, 1.4, 0.03], [0.1, 1.4, 0.23], [-0.1, 1.4, 0.23]]
+"#;
+
+    #[test]
+    fn a_housing_lit_inside_sends_nothing_through_its_walls() {
+        // Every inner side of the housing glows (B − E = 100), every outer side and the wall
+        // are dark: the wall behind the housing and the housing's outer sides see only dark
+        // surfaces. Without visibility the inner side of the housing's front panel, facing the
+        // wall through the back panel, lit a halo on the wall (N = 63 at share 1); and a point
+        // of an outer side, a rounding error behind its plane, saw its own inner twin at
+        // distance zero (white speckles on a dark housing), which both the skip of the point's
+        // own polygon and the visibility test stop.
+        let scene =
+            crate::Scene::from_toml_str(HOUSING, std::path::Path::new("housing.toml")).unwrap();
+        let mesh = Mesh::build(&scene, crate::mesh::Subdivision::Elements(400));
+        let radiosity: Vec<Rgb> = (0..mesh.element_count())
+            .map(|e| {
+                // The panels face in: their fronts are the inner sides.
+                let p = mesh.element_patch(e);
+                let inner = p.object != 0 && !p.back;
+                Rgb::splat(if inner { 100.0 } else { 0.0 })
+            })
+            .collect();
+        assert!(
+            radiosity.iter().any(|b| b.x > 0.0),
+            "the housing has inner sides"
+        );
+        let near = NearField::new(&mesh, &radiosity);
+        let wall = (0..mesh.patches.len())
+            .find(|&p| mesh.patches[p].object == 0)
+            .unwrap();
+        for x in [-0.05, 0.0, 0.08] {
+            for y in [1.25, 1.3, 1.38] {
+                let (n, share, _) =
+                    near.irradiance(&mesh, Vec3::new(x, y, 0.0), Vec3::Z, wall as u32);
+                assert!(
+                    n.max_element() < 1e-9,
+                    "wall at ({x}, {y}): N = {n:?}, share {share}"
+                );
+            }
+        }
+        // The front panel's outer side (its patch facing +z), at a point a rounding error
+        // inside the housing.
+        let front = (0..mesh.patches.len())
+            .find(|&p| {
+                let patch = &mesh.patches[p];
+                patch.object != 0 && patch.normal.z > 0.9
+            })
+            .unwrap();
+        let inside = Vec3::new(0.02, 1.3, 0.23 - 1e-6);
+        let (n, share, _) = near.irradiance(&mesh, inside, Vec3::Z, front as u32);
+        assert!(
+            n.max_element() < 1e-9,
+            "outer side: N = {n:?}, share {share}"
         );
     }
 }
