@@ -35,9 +35,11 @@
 //! ```
 //!
 //! the nodes s those of each patch's uniform level (deeper leaves merged into them, B_s their
-//! mean), F(x → s) Lambert's exact factor to the node (unoccluded: near surfaces see each other;
-//! beyond two of the node's diameters the point kernel A cosθ cosθ' / (π r²), `near_factor`
-//! in `near_field.rs`), w a weight falling from 1 to 0 between half and the whole of the reach
+//! mean), F(x → s) Lambert's exact factor to the node times the visibility of its centroid
+//! (one shadow ray: a thin wall, such as a lamp housing lit inside, hides what lies behind it;
+//! the point's own polygon, its back twin included, sends nothing; beyond two of the node's
+//! diameters the point kernel A cosθ cosθ' / (π r²), `near_factor` in `near_field.rs`),
+//! w a weight falling from 1 to 0 between half and the whole of the reach
 //! (`NEAR_REACH` element diameters), and N̄, S̄ the means over the element's pieces, so that
 //! the element's mean is kept. The near surfaces hide the far ones: into a corner S(x) grows
 //! and the far part shrinks (a first version that added the near part to an interpolated far

@@ -32,10 +32,12 @@ pub(super) const PIECES: usize = 4;
 ///
 /// Short of the reach, the blocks' faces come out 20–30 % too bright over the last few pixels
 /// above the floor, where the floor in their shadow darkens them: too little of the floor they
-/// see there is near. Beyond it, surfaces that another one hides count in the near field (it
-/// has no visibility): at reach 8 the tall block's face towards the red wall came out up to
-/// 48 % too bright. The absolute reach grows with the elements, so coarse meshes meet that
-/// limit sooner (the furnished room at `--elements 2048`: 1.42 % at reach 3, 2.18 % at 5).
+/// see there is near. The table was measured with the near field's factors unoccluded, where
+/// beyond the reach surfaces that another one hides counted (at reach 8 the tall block's face
+/// towards the red wall came out up to 48 % too bright); each term now has its visibility
+/// ray ([`NearField::sees`]), and the reach stays where the table put it. The absolute reach
+/// grows with the elements (the furnished room at `--elements 2048`: 1.42 % at reach 3,
+/// 2.18 % at 5).
 const NEAR_REACH: f32 = 5.0;
 
 /// A near node below the cut (along a contact line or a shadow) is opened into its children
