@@ -18,6 +18,9 @@
 //! - [`isa`]: the queries compiled for the baseline and for AVX2, chosen at run time.
 //! - `pages`: the node and packet arrays on transparent huge pages (`madvise`), so that a
 //!   walk through 50 MB of hierarchy does not also miss the TLB at every step.
+//! - [`BoxTree`] (`box_tree`): a binary hierarchy over boxes of the caller's choosing, for
+//!   overlap queries whose reach differs from item to item (the contact test of
+//!   [`crate::mesh`]).
 //! - [`bench`]: the ray-throughput benchmark measured against Intel Embree
 //!   (`benches/README.md`).
 //!
@@ -25,6 +28,7 @@
 //! here than binary (Aila & Laine 2009) and 4-wide nodes; see `benches/README.md`.
 
 pub mod bench;
+pub mod box_tree;
 mod build;
 pub mod bvh;
 pub mod coherent;
@@ -36,6 +40,7 @@ mod pages;
 pub mod ray;
 mod traverse;
 
+pub use box_tree::BoxTree;
 pub use bvh::Bvh;
 pub use node::Aabb;
 pub use ray::{Hit, Ray};

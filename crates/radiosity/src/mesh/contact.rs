@@ -34,9 +34,10 @@
 //! against Mitsuba 3 with only crossings counted, +5 % and +9 % with this).
 
 use glam::Vec3;
+use rayon::prelude::*;
 
-use super::{Mesh, MAX_LEVEL};
-use crate::accel::Bvh;
+use super::{Mesh, Node, MAX_LEVEL};
+use crate::accel::{Aabb, BoxTree};
 
 /// Extra quadtree levels for elements that a contact line crosses (each level halves the
 /// straddling strip's width).
@@ -51,10 +52,13 @@ pub const CONTACT_LEVELS: u8 = 3;
 /// [`CONTACT_LEVELS`].
 pub const COVER_LEVELS: u8 = 6;
 
-/// The search around a leaf reaches at most this many of its diameters (and at most the
-/// largest triangle's [`STAND`] reach): a reach set by the scene's largest triangle alone (a
-/// 20 m floor) made every small leaf of a million-triangle scene test thousands of triangles
-/// (`radiosity bench --suite hierarchical`, the 1 024 002-triangle field: 312 s).
+/// The search around a leaf reaches at most this many of its diameters: a triangle's
+/// [`STAND`] reach grows with its size (20 cm for a wall 4 m across), and a leaf far smaller
+/// than that distance (a detail of a fine mesh under the wall's edge) is not split for it. The
+/// cap first bounded the search, when one reach for all (the largest triangle's) made every
+/// small leaf of a million-triangle scene test thousands of triangles (`radiosity bench
+/// --suite hierarchical`, the 1 024 002-triangle field: 312 s); the triangles' own reaches
+/// ([`Mesh::contact_reaches`]) bound it now, and the cap keeps the meshes as they were.
 const QUERY_DIAMETERS: f32 = 8.0;
 
 /// Relative tolerance of the contact test, as a fraction of the leaf's diameter.
@@ -65,11 +69,12 @@ impl Mesh {
     /// its crossed children, down to [`CONTACT_LEVELS`] more levels ([`COVER_LEVELS`] under a
     /// hovering outline; never below [`MAX_LEVEL`]). Gives up, leaving the mesh valid but
     /// unfinished, once `stop` returns true.
-    pub fn refine_contacts(&mut self, bvh: &Bvh, stop: &(dyn Fn() -> bool + Sync)) {
+    pub fn refine_contacts(&mut self, stop: &(dyn Fn() -> bool + Sync)) {
         if self.triangles.is_empty() {
             return;
         }
-        let reach = self
+        let reaches = self.contact_reaches();
+        let cap = self
             .triangles
             .iter()
             .map(|t| STAND * diameter(t))
@@ -85,12 +90,12 @@ impl Mesh {
         let mut candidates: Vec<(u32, u8)> = self.elements.iter().map(|&n| (n, 0)).collect();
         while !candidates.is_empty() {
             let split: Vec<(u32, u8)> = candidates
-                .iter()
+                .par_iter()
                 .copied()
                 .filter(|&(n, done)| {
                     self.nodes[n as usize].level < MAX_LEVEL
                         && !stop()
-                        && done < self.touched(bvh, reach, &lights, n, done)
+                        && done < self.touched(&reaches, cap, &lights, n, done)
                 })
                 .collect();
             if split.is_empty() {
@@ -108,24 +113,64 @@ impl Mesh {
         }
     }
 
+    /// The triangles' boxes, each grown by the farthest a triangle touches a leaf from: the
+    /// larger of [`STAND`] and [`COVER`] of its size. A leaf's candidates are the triangles
+    /// whose grown box meets its own: a few neighbours in a dense mesh, where a search of
+    /// the leaf's surroundings by one reach for all met hundreds (`veach-ajar` of the corpus,
+    /// 256 566 polygons: 70 s, 90 % of it in that search).
+    fn contact_reaches(&self) -> BoxTree {
+        let boxes: Vec<Aabb> = self
+            .triangles
+            .iter()
+            .map(|t| grown(Aabb::from_points(t), STAND.max(COVER) * diameter(t)))
+            .collect();
+        BoxTree::build(&boxes)
+    }
+
+    /// Calls `visit` with every triangle of another polygon than node `n`'s whose reach
+    /// ([`Mesh::contact_reaches`]) meets the node's bounds grown by its [`tolerance`], and
+    /// whose bounds lie within `cap` of them, or [`QUERY_DIAMETERS`] of the node's size if less:
+    /// every triangle that can touch the node ([`crosses`]) within that distance.
+    fn contact_candidates(
+        &self,
+        reaches: &BoxTree,
+        cap: f32,
+        n: u32,
+        mut visit: impl FnMut(usize),
+    ) {
+        let node = &self.nodes[n as usize];
+        let own = self.patches[node.patch as usize].polygon;
+        let eps = tolerance(node);
+        let bounds = Aabb::from_points(node.face.corners());
+        let near = grown(bounds, cap.min(QUERY_DIAMETERS * node.diameter()).max(eps));
+        reaches.overlapping(&grown(bounds, eps), |t| {
+            let b = Aabb::from_points(&self.triangles[t]);
+            let within = near.min.cmple(b.max).all() && b.min.cmple(near.max).all();
+            if within && self.triangle_polygon[t] != own {
+                visit(t);
+            }
+        });
+    }
+
     /// How many levels node `n` wants added: [`COVER_LEVELS`] if a triangle of an emitting
-    /// polygon facing it covers it partly from in front (within `reach`), [`CONTACT_LEVELS`] if
-    /// another polygon's triangle crosses its face through the interior or covers it, 0
-    /// otherwise. Stops looking once the answer exceeds `done`. `lights[p]` is the front normal
-    /// of polygon `p` if it emits.
-    fn touched(&self, bvh: &Bvh, reach: f32, lights: &[Option<Vec3>], n: u32, done: u8) -> u8 {
+    /// polygon facing it covers it partly from in front, [`CONTACT_LEVELS`] if another
+    /// polygon's triangle crosses its face through the interior or covers it, 0 otherwise
+    /// (among the [candidates](Mesh::contact_candidates) within `cap`). Stops looking once the
+    /// answer exceeds `done`. `lights[p]` is the front normal of polygon `p` if it emits.
+    fn touched(
+        &self,
+        reaches: &BoxTree,
+        cap: f32,
+        lights: &[Option<Vec3>],
+        n: u32,
+        done: u8,
+    ) -> u8 {
         let node = &self.nodes[n as usize];
         let patch = &self.patches[node.patch as usize];
         let corners = node.face.corners();
-        // Relative to the leaf's size, and never below what f32 coordinates can resolve.
-        let magnitude = corners
-            .iter()
-            .map(|c| c.abs().max_element())
-            .fold(0.0, f32::max);
-        let eps = (TOLERANCE * node.diameter()).max(8.0 * f32::EPSILON * magnitude);
+        let eps = tolerance(node);
         let mut wanted = 0;
-        let reach = reach.min(QUERY_DIAMETERS * node.diameter()).max(eps);
-        self.other_triangles_near(bvh, n, reach, |t| {
+        self.contact_candidates(reaches, cap, n, |t| {
             if wanted <= done {
                 let polygon = self.triangle_polygon[t] as usize;
                 let facing_light = lights[polygon].is_some_and(|n| n.dot(patch.normal) < 0.0);
@@ -141,6 +186,26 @@ impl Mesh {
             }
         });
         wanted
+    }
+}
+
+/// The contact test's tolerance for a node: relative to its size ([`TOLERANCE`]), and never
+/// below what f32 coordinates can resolve.
+fn tolerance(node: &Node) -> f32 {
+    let magnitude = node
+        .face
+        .corners()
+        .iter()
+        .map(|c| c.abs().max_element())
+        .fold(0.0, f32::max);
+    (TOLERANCE * node.diameter()).max(8.0 * f32::EPSILON * magnitude)
+}
+
+/// `b` grown by `r` on every side.
+fn grown(b: Aabb, r: f32) -> Aabb {
+    Aabb {
+        min: b.min - Vec3::splat(r),
+        max: b.max + Vec3::splat(r),
     }
 }
 
@@ -300,6 +365,122 @@ fn covers_partly(corners: &[Vec3], normal: Vec3, triangle: &[Vec3; 3], eps: f32)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::Subdivision;
+    use crate::scene::{Material, Object, Polygon};
+    use crate::Scene;
+
+    /// A scene of the given polygons, one object, one two-sided material.
+    fn scene(polygons: Vec<Vec<Vec3>>) -> Scene {
+        Scene {
+            materials: vec![Material {
+                two_sided: true,
+                ..Material::default()
+            }],
+            objects: vec![Object { name: "all".into() }],
+            polygons: polygons
+                .into_iter()
+                .map(|vertices| Polygon {
+                    vertices,
+                    material: 0,
+                    object: 0,
+                })
+                .collect(),
+            ..Scene::default()
+        }
+    }
+
+    /// The unit square in the plane z = 0 tiled by `n` × `n` squares, each its own polygon (as
+    /// a mesh read from PLY or OBJ comes, a polygon per face).
+    fn tiles(n: usize) -> Vec<Vec<Vec3>> {
+        let step = 1.0 / n as f32;
+        let at = |i: usize, j: usize| Vec3::new(i as f32 * step, j as f32 * step, 0.0);
+        (0..n * n)
+            .map(|k| {
+                let (i, j) = (k % n, k / n);
+                vec![at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_leaf_of_a_dense_mesh_tests_only_its_neighbours() {
+        // Tiles of a fine mesh, and a wall of 10 × 10 far off whose STAND reach (0.7) spans
+        // eleven tiles: each tile is tested against its eight neighbours' two triangles each,
+        // however fine the tiling (one reach for all, capped at eight tile diameters, tested
+        // about 23² tiles' triangles).
+        for n in [16, 64] {
+            let mut polygons = tiles(n);
+            polygons.push(vec![
+                Vec3::new(50.0, 0.0, 0.0),
+                Vec3::new(60.0, 0.0, 0.0),
+                Vec3::new(60.0, 0.0, 10.0),
+                Vec3::new(50.0, 0.0, 10.0),
+            ]);
+            let mesh = Mesh::build(&scene(polygons), Subdivision::MaxArea(f64::INFINITY));
+            let reaches = mesh.contact_reaches();
+            let most = mesh
+                .elements
+                .iter()
+                .map(|&e| {
+                    let mut tested = 0;
+                    mesh.contact_candidates(&reaches, f32::INFINITY, e, |_| tested += 1);
+                    tested
+                })
+                .max();
+            assert_eq!(most, Some(8 * 2), "{n} × {n} tiles");
+        }
+    }
+
+    #[test]
+    fn a_fine_mesh_standing_on_a_floor_splits_it_along_the_contact_line() {
+        // A vertical strip tiled by 32 × 32 small squares (each its own polygon) stands across
+        // a floor of 4 × 4, off the floor's dyadic grid: the floor's elements that its
+        // footprint crosses go CONTACT_LEVELS deeper, though every triangle of the strip is a
+        // thousand times smaller than a floor element.
+        let floor = vec![
+            Vec3::new(-2.0, -2.0, 0.0),
+            Vec3::new(2.0, -2.0, 0.0),
+            Vec3::new(2.0, 2.0, 0.0),
+            Vec3::new(-2.0, 2.0, 0.0),
+        ];
+        let strip = tiles(32)
+            .into_iter()
+            .map(|tile| {
+                let stand = |v: Vec3| Vec3::new(v.x - 0.4321, 0.3456, v.y - 0.01);
+                tile.into_iter().map(stand).collect()
+            })
+            .collect::<Vec<_>>();
+        let mut polygons = vec![floor];
+        polygons.extend(strip);
+        let mesh = Mesh::build(&scene(polygons), Subdivision::MaxArea(0.3));
+        let floor: Vec<&Node> = mesh.nodes[mesh.roots[0].start as usize]
+            .elements
+            .clone()
+            .map(|e| mesh.element(e as usize))
+            .collect();
+        let levels = |f: &dyn Fn(&Node) -> bool| {
+            let mut l: Vec<u8> = floor.iter().filter(|n| f(n)).map(|n| n.level).collect();
+            l.dedup();
+            l
+        };
+        // Elements the footprint (y = 0.3456, −0.4321 < x < 0.5679) runs through, and the rest.
+        let crossed = |n: &Node| {
+            let c = n.face.corners();
+            let (lo, hi) = c
+                .iter()
+                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| {
+                    (a.min(p), b.max(p))
+                });
+            lo.y < 0.3456 && 0.3456 < hi.y && lo.x < 0.5679 && -0.4321 < hi.x
+        };
+        let (uniform, deep) = (levels(&|n| !crossed(n)), levels(&crossed));
+        assert_eq!(deep.len(), 1, "{deep:?}");
+        assert!(
+            uniform.contains(&(deep[0] - CONTACT_LEVELS)),
+            "{uniform:?} {deep:?}"
+        );
+        mesh.validate().unwrap();
+    }
 
     fn square() -> [Vec3; 4] {
         [

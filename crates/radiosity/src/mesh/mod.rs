@@ -151,7 +151,7 @@ impl Mesh {
             }
         }
         let bvh = Bvh::build(&mesh.triangles);
-        mesh.refine_contacts(&bvh, stop);
+        mesh.refine_contacts(stop);
         mesh.refine_shadows(&bvh, stop);
         if stop() {
             return None;
@@ -209,7 +209,7 @@ impl Mesh {
 
     /// Calls `visit` with every triangle (an index into [`Mesh::triangles`]) of another polygon
     /// than node `n`'s whose bounds come within `reach` of the node's bounds: the candidates of
-    /// the contact and near-field tests.
+    /// the near-field test.
     fn other_triangles_near(&self, bvh: &Bvh, n: u32, reach: f32, mut visit: impl FnMut(usize)) {
         let node = &self.nodes[n as usize];
         let own = self.patches[node.patch as usize].polygon;
