@@ -9,7 +9,7 @@ use std::time::Instant;
 use crate::accel::Bvh;
 use crate::formfactor::{self, Geometry};
 use crate::mesh::{display, LitMesh, Mesh, Subdivision};
-use crate::progress::Progress;
+use crate::progress::{Progress, Work};
 use crate::render::raytrace::evaluate::display_refinement;
 use crate::render::{self, local, raytrace, Image, Mode, RasterSettings, Watch};
 use crate::scene::Camera;
@@ -142,7 +142,7 @@ pub fn solve_controlled(
         ),
         plan::Choice::Subdivided { .. } => (settings.subdivision, asked),
     };
-    progress.start("meshing", 3);
+    progress.start("meshing", Work::of(3, "steps"));
     let stop = || control.stopped();
     let mesh = Mesh::build_unless(&scene, subdivision, settings.discontinuity, &stop)
         .ok_or(PipelineError::Interrupted)?;
@@ -159,6 +159,8 @@ pub fn solve_controlled(
         } => (method, mesh.sources(sources, reach)),
     };
     progress.advance(1);
+    progress.tally(mesh.patches.len() as u64, "patches");
+    progress.tally(counted as u64, "elements");
     progress.finish();
     timings.mesh = start.elapsed().as_secs_f64();
 

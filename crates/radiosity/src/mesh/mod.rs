@@ -680,4 +680,36 @@ mod tests {
         // Whatever still straddles a contact line is deeper than the roots.
         assert!(shallowest.is_none_or(|l| l > 0), "{shallowest:?}");
     }
+
+    /// Ctrl-C must not wait for the contact and shadow refinements (seconds on large scenes):
+    /// they ask their stop question for every element they test, and a meshing told to stop
+    /// gives up. Counting the questions states this without a clock.
+    #[test]
+    fn meshing_asks_whether_to_stop_for_every_element_and_gives_up_when_told() {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        // Boxes standing on a floor under a light: both refinements have work.
+        let scene = crate::scene::builtin::load("cornell")
+            .expect("built in")
+            .expect("loads");
+        let subdivision = Subdivision::Elements(300);
+        let asked = AtomicUsize::new(0);
+        let counting = || {
+            asked.fetch_add(1, Ordering::SeqCst);
+            false
+        };
+        let mesh = Mesh::build_unless(&scene, subdivision, false, &counting).expect("not told");
+        assert_eq!(
+            mesh.element_count(),
+            Mesh::build(&scene, subdivision).element_count()
+        );
+        // Contact refinement asks for each uniform element, shadow refinement for each element
+        // contact refinement left (at least as many).
+        let (_, uniform) = Mesh::plan(&scene, subdivision, false);
+        let asked = asked.load(Ordering::SeqCst);
+        assert!(
+            asked as f64 >= 2.0 * uniform,
+            "{asked} questions, {uniform} elements"
+        );
+        assert!(Mesh::build_unless(&scene, subdivision, false, &|| true).is_none());
+    }
 }

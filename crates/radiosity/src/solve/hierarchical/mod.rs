@@ -59,7 +59,7 @@ use super::solver::{Job, Solver};
 use super::{Method, Refined, Sample, Solution, SolveError};
 use crate::accel::Bvh;
 use crate::mesh::{Mesh, Node};
-use crate::progress::Progress;
+use crate::progress::{Progress, Work};
 use crate::stats::HierarchyStats;
 use crate::Rgb;
 use cluster::{Cluster, Clusters};
@@ -296,7 +296,7 @@ pub fn run(
         last = Some(it);
     }
     let passes = STAGES + FINAL_PASSES + DISPLAY_PASSES;
-    progress.start("hierarchical", u64::from(passes) + 1);
+    progress.start("hierarchical", Work::of(u64::from(passes) + 1, "passes"));
     progress.advance(u64::from(done));
     'passes: for pass in done..passes {
         let stage = pass.min(STAGES - 1);
@@ -420,6 +420,9 @@ pub fn run(
         session.after_iteration(true, || it);
     }
     progress.advance(1);
+    progress.tally(mesh.element_count() as u64, "elements");
+    progress.tally(links.len() as u64, "links");
+    progress.tally(out.iterations as u64, "iterations");
     progress.finish();
     out.irradiance = state.element_irradiance(mesh);
     let direct = state.emitted_irradiance(mesh, &clusters, &links, rows.as_ref());

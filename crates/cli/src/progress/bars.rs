@@ -1,11 +1,12 @@
-//! Progress bars on stderr for the engine's long stages (meshing, form factors, solving).
+//! Progress bars on a terminal for the engine's long stages (meshing, form factors, solving):
+//! one bar per stage, redrawn in place, and a line `STAGE done in S s` when it ends.
 
 use std::io::Write;
 use std::sync::{Mutex, PoisonError};
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use radiosity::progress::Progress;
+use radiosity::progress::{Progress, Work};
 
 /// One indicatif bar per stage, drawn on stderr; or nothing at all when disabled.
 pub struct Bars {
@@ -27,7 +28,8 @@ impl Bars {
 }
 
 impl Progress for Bars {
-    fn start(&self, stage: &str, total: u64) {
+    fn start(&self, stage: &str, work: Work) {
+        let total = work.total;
         if !self.enabled {
             return;
         }
