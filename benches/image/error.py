@@ -21,10 +21,14 @@ import mitsuba as mi
 import numpy as np
 
 
+def luminance_of(rgb):
+    """Luminance of an H x W x 3 (or more channels) array of linear RGB."""
+    return np.asarray(rgb, dtype=np.float64)[..., :3] @ np.array([0.2126, 0.7152, 0.0722])
+
+
 def luminance(path):
     mi.set_variant("scalar_rgb")
-    a = np.array(mi.Bitmap(path), dtype=np.float64)[..., :3]
-    return a @ np.array([0.2126, 0.7152, 0.0722])
+    return luminance_of(np.array(mi.Bitmap(path), dtype=np.float64))
 
 
 def blocks(y, k):
@@ -32,15 +36,21 @@ def blocks(y, k):
     return y[:h, :w].reshape(h // k, k, w // k, k).mean(axis=(1, 3))
 
 
-def error(image, reference, k=4, inner=0):
-    a, b = luminance(image), luminance(reference)
-    if a.shape != b.shape:
-        sys.exit(f"sizes differ: {a.shape} vs {b.shape}")
+def block_relative_errors(a, b, k=4, inner=0):
+    """The relative errors (A - B) / B of the K x K-block means of two luminance arrays, over
+    the blocks kept (B brighter than 1e-3 of its mean; `inner` border blocks left out)."""
     a, b = blocks(a, k), blocks(b, k)
     if inner > 0:
         a, b = a[inner:-inner, inner:-inner], b[inner:-inner, inner:-inner]
     keep = b > 1e-3 * b.mean()
-    rel = (a[keep] - b[keep]) / b[keep]
+    return (a[keep] - b[keep]) / b[keep]
+
+
+def error(image, reference, k=4, inner=0):
+    a, b = luminance(image), luminance(reference)
+    if a.shape != b.shape:
+        sys.exit(f"sizes differ: {a.shape} vs {b.shape}")
+    rel = block_relative_errors(a, b, k, inner)
     return float(np.sqrt(np.mean(rel ** 2))), float(np.mean(rel))
 
 

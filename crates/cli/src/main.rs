@@ -28,6 +28,7 @@ mod bench;
 mod bench_hierarchical;
 mod bench_image;
 mod compare;
+mod corpus;
 mod curve;
 mod hemicube;
 mod info;

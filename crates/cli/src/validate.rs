@@ -73,6 +73,17 @@ pub struct ValidateArgs {
     /// (Analytic form factors ignore visibility; every suite scene has shadows.)
     #[arg(long = "suite-form-factors", value_name = "NAME")]
     pub suite_form_factors: Vec<String>,
+    /// Also compare the published scenes in DIR (one folder per scene, Mitsuba XML) with
+    /// Mitsuba 3's references: block error, 99th percentile, mean radiance ratio, power, time.
+    #[arg(long, value_name = "DIR")]
+    pub corpus: Option<std::path::PathBuf>,
+    /// The references of `--corpus` (`<scene>.exr` + `<scene>.json`, from
+    /// benches/corpus/reference.py).
+    #[arg(long, value_name = "DIR", default_value = "benches/corpus/reference")]
+    pub corpus_references: std::path::PathBuf,
+    /// Corpus scenes to run (repeatable; default: every one with a reference).
+    #[arg(long = "corpus-scene", value_name = "NAME")]
+    pub corpus_scenes: Vec<String>,
 }
 
 /// `--format` of `validate`.
@@ -135,10 +146,14 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
             &bars,
         )?);
     }
+    let corpus = match &args.corpus {
+        Some(dir) => crate::corpus::rows(dir, &args.corpus_references, &args.corpus_scenes)?,
+        None => Vec::new(),
+    };
     let mut out = std::io::stdout().lock();
     match args.format {
         Format::Json => {
-            let json: Vec<_> = rows
+            let mut json: Vec<_> = rows
                 .iter()
                 .map(|r| {
                     serde_json::json!({
@@ -152,6 +167,13 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
                     })
                 })
                 .collect();
+            for c in &corpus {
+                let mut v = serde_json::to_value(c)?;
+                v["case"] = format!("corpus: {}", c.scene).into();
+                v["quantity"] = "picture vs Mitsuba 3, 4 x 4-block RMS".into();
+                v["pass"] = c.pass().into();
+                json.push(v);
+            }
             writeln!(out, "{}", serde_json::to_string_pretty(&json)?)?;
         }
         Format::Markdown => {
@@ -170,9 +192,13 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
                     r.tolerance
                 )?;
             }
+            if !corpus.is_empty() {
+                writeln!(out, "\n{}", crate::corpus::table(&corpus))?;
+            }
         }
     }
-    let failed = rows.iter().filter(|r| !r.pass()).count();
+    let failed =
+        rows.iter().filter(|r| !r.pass()).count() + corpus.iter().filter(|c| !c.pass()).count();
     anyhow::ensure!(failed == 0, "{failed} validation case(s) out of tolerance");
     Ok(())
 }

@@ -32,6 +32,15 @@ impl Transform {
         }
     }
 
+    /// The affine part of a 4×4 matrix (its last row is taken as 0 0 0 1), as scene files
+    /// such as Mitsuba's write `to_world`.
+    #[must_use]
+    pub fn from_mat4(m: glam::Mat4) -> Self {
+        Self {
+            affine: Affine3A::from_mat4(m),
+        }
+    }
+
     /// `self` applied after `inner`.
     #[must_use]
     pub fn then(self, outer: Self) -> Self {

@@ -22,6 +22,9 @@ pub struct ImageError {
     pub rms: f64,
     /// Mean of the blocks' relative luminance errors (positive: too bright).
     pub bias: f64,
+    /// The 99th percentile of the blocks' absolute relative errors: where a leak, a blotch or
+    /// a seam shows that the RMS averages away.
+    pub p99: f64,
     /// Blocks compared.
     pub blocks: usize,
 }
@@ -61,9 +64,13 @@ pub fn block_error(image: &Image, reference: &Image, block: u32) -> Option<Image
         return None;
     }
     let n = relative.len() as f64;
+    let mut magnitudes: Vec<f64> = relative.iter().map(|e| e.abs()).collect();
+    magnitudes.sort_by(f64::total_cmp);
+    let rank = ((0.99 * n).ceil() as usize).clamp(1, magnitudes.len()) - 1;
     Some(ImageError {
         rms: (relative.iter().map(|e| e * e).sum::<f64>() / n).sqrt(),
         bias: relative.iter().sum::<f64>() / n,
+        p99: magnitudes[rank],
         blocks: relative.len(),
     })
 }
@@ -92,6 +99,21 @@ mod tests {
         assert!((e.rms - 0.03).abs() < 1e-12 && (e.bias - 0.03).abs() < 1e-12);
         assert_eq!(e.blocks, 4);
         assert_eq!(block_error(&reference, &reference, 2).unwrap().rms, 0.0);
+    }
+
+    #[test]
+    fn one_bad_block_in_a_hundred_is_the_99th_percentile() {
+        let reference = image(40, 40, |_, _| 1.0);
+        // 100 blocks of 4 × 4; one is 50 % too bright, one 20 %: the 99th percentile is the
+        // second largest, the RMS far below either.
+        let blotched = image(40, 40, |x, y| match (x / 4, y / 4) {
+            (0, 0) => 1.5,
+            (9, 9) => 1.2,
+            _ => 1.0,
+        });
+        let e = block_error(&blotched, &reference, 4).unwrap();
+        assert!((e.p99 - 0.2).abs() < 1e-12, "{e:?}");
+        assert!((e.rms - (0.29f64 / 100.0).sqrt()).abs() < 1e-12);
     }
 
     #[test]

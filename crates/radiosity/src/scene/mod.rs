@@ -10,6 +10,7 @@ pub mod build;
 pub mod builtin;
 pub(crate) mod coincident;
 pub mod description;
+pub mod enclosure;
 pub mod environment;
 pub mod error;
 pub mod frame;

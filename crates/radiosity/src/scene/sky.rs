@@ -8,12 +8,11 @@
 //! radiance [`RADIANCE`] and reflect nothing. Every surface open to the sky then receives
 //! irradiance π·[`RADIANCE`]·(the fraction of its hemisphere that sees the sky, counting
 //! interreflections): an ambient-occlusion look that shows the model's shape, in physical
-//! units. The sky is an object of its own (`default_sky`), so it shows in stats and exports and
-//! takes its share of the element budget, like any surface. `--no-default-light` turns it off.
+//! units. The box is an [`enclosure`], an object of its own (`default_sky`), so it shows in
+//! stats and exports and takes its share of the element budget, like any surface.
+//! `--no-default-light` turns it off.
 
-use glam::Vec3;
-
-use super::{Material, Object, Polygon, Scene};
+use super::{enclosure, Material, Scene};
 use crate::Rgb;
 
 /// Emitted radiance of the sky, W·m⁻²·sr⁻¹ per channel (so its exitance is π).
@@ -45,88 +44,26 @@ impl Scene {
         if self.has_emitter() {
             return false;
         }
-        let (lo, hi) = self
-            .polygons
-            .iter()
-            .flat_map(|p| p.vertices.iter().copied())
-            .chain(self.cameras.iter().map(|c| c.eye))
-            .filter(|v| v.is_finite())
-            .fold(
-                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-                |(lo, hi), v| (lo.min(v), hi.max(v)),
-            );
-        if !(lo.cmple(hi).all()) {
+        let Some((lo, hi)) = enclosure::bounds(self).map(|b| enclosure::grown(b, MARGIN)) else {
             return false;
-        }
-        let gap = MARGIN * (hi - lo).length().max(f32::MIN_POSITIVE.sqrt());
-        let (lo, hi) = (lo - Vec3::splat(gap), hi + Vec3::splat(gap));
-        self.materials.push(Material {
-            name: NAME.into(),
-            reflectance: Rgb::ZERO,
-            emission: Rgb::splat(RADIANCE),
-            ..Material::default()
-        });
-        self.objects.push(Object { name: NAME.into() });
-        let (material, object) = (self.materials.len() - 1, self.objects.len() - 1);
-        for vertices in box_faces_inward(lo, hi) {
-            self.polygons.push(Polygon {
-                vertices: vertices.to_vec(),
-                material,
-                object,
-            });
-        }
+        };
+        let faces = enclosure::box_faces_inward(lo, hi);
+        self.add_enclosure(
+            NAME,
+            faces
+                .iter()
+                .map(|f| (f.to_vec(), Rgb::splat(RADIANCE)))
+                .collect(),
+        );
         true
     }
-}
-
-/// The six faces of the box [lo, hi], each counter-clockwise seen from inside.
-fn box_faces_inward(lo: Vec3, hi: Vec3) -> [[Vec3; 4]; 6] {
-    let c = |x: bool, y: bool, z: bool| {
-        Vec3::new(
-            if x { hi.x } else { lo.x },
-            if y { hi.y } else { lo.y },
-            if z { hi.z } else { lo.z },
-        )
-    };
-    let (f, t) = (false, true);
-    [
-        // x = lo (normal +x), x = hi (normal −x)
-        [c(f, f, f), c(f, t, f), c(f, t, t), c(f, f, t)],
-        [c(t, f, f), c(t, f, t), c(t, t, t), c(t, t, f)],
-        // y = lo (normal +y), y = hi (normal −y)
-        [c(f, f, f), c(f, f, t), c(t, f, t), c(t, f, f)],
-        [c(f, t, f), c(t, t, f), c(t, t, t), c(f, t, t)],
-        // z = lo (normal +z), z = hi (normal −z)
-        [c(f, f, f), c(t, f, f), c(t, t, f), c(f, t, f)],
-        [c(f, f, t), c(f, t, t), c(t, t, t), c(t, f, t)],
-    ]
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn newell(v: &[Vec3]) -> Vec3 {
-        (0..v.len())
-            .map(|i| v[i].cross(v[(i + 1) % v.len()]))
-            .sum::<Vec3>()
-            * 0.5
-    }
-
-    #[test]
-    fn the_sky_faces_inward_and_encloses_the_bounds() {
-        let (lo, hi) = (Vec3::new(-1.0, 0.0, 2.0), Vec3::new(3.0, 1.0, 5.0));
-        let centre = 0.5 * (lo + hi);
-        let faces = box_faces_inward(lo, hi);
-        let mut total = Vec3::ZERO;
-        for f in &faces {
-            let n = newell(f);
-            total += n;
-            // The front faces the centre.
-            assert!(n.dot(centre - f[0]) > 0.0, "{f:?}");
-        }
-        assert!(total.length() < 1e-5, "closed: {total}");
-    }
+    use crate::scene::{Object, Polygon};
+    use glam::Vec3;
 
     #[test]
     fn only_a_scene_without_emitters_gets_a_sky() {

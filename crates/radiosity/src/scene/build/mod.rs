@@ -28,12 +28,14 @@ use super::{Loc, RenderDefaults, SceneError};
 use crate::scene::import::gltf_file;
 use crate::scene::import::obj::{self, ObjFile};
 
+mod mitsuba;
 mod shapes;
 use shapes::{modeled_mesh, solid_mesh};
 
 impl Scene {
-    /// Loads a scene file: `.toml` (the scene format) or `.obj` (a bare mesh, see
-    /// [`Scene::from_obj_file`]).
+    /// Loads a scene file: `.toml` (the scene format), `.obj` (a bare mesh, see
+    /// [`Scene::from_obj_file`]), `.gltf`/`.glb`, or `.xml` (a Mitsuba scene, see
+    /// [`Scene::from_mitsuba_file`]).
     ///
     /// # Errors
     /// The file cannot be read, has another extension, or is not a valid scene; the error
@@ -42,7 +44,7 @@ impl Scene {
         if path.is_dir() {
             return Err(SceneError::in_file(
                 path,
-                "is a directory, not a scene file (.toml, .obj, .gltf or .glb)",
+                "is a directory, not a scene file (.toml, .obj, .gltf, .glb or .xml)",
             ));
         }
         let ext = path
@@ -57,9 +59,10 @@ impl Scene {
             }
             Some("obj") => Self::from_obj_file(path),
             Some("gltf" | "glb") => Self::from_gltf_file(path),
+            Some("xml") => Self::from_mitsuba_file(path),
             _ => Err(SceneError::in_file(
                 path,
-                "unsupported scene file type (expected .toml, .obj, .gltf or .glb)",
+                "unsupported scene file type (expected .toml, .obj, .gltf, .glb or .xml)",
             )),
         }
     }
@@ -356,13 +359,13 @@ struct Builder {
 impl Builder {
     fn new(file: &Path) -> Self {
         let stem = file.file_stem().and_then(|s| s.to_str()).unwrap_or("scene");
-        // `scenes/cornell/scene.toml` is called `cornell`.
+        // `scenes/cornell/scene.toml` is called `cornell`, and so is `cornell/scene_mi3.xml`.
         let name = match file
             .parent()
             .and_then(|p| p.file_name())
             .and_then(|p| p.to_str())
         {
-            Some(dir) if stem == "scene" => dir,
+            Some(dir) if stem == "scene" || stem.starts_with("scene_") => dir,
             _ => stem,
         };
         Self {

@@ -2,4 +2,7 @@
 //! materials ([`obj`]) and glTF 2.0, `.gltf` or `.glb` ([`gltf_file`]). They sit below the scene
 //! builder, which turns their meshes into polygons.
 pub mod gltf_file;
+pub mod mitsuba;
 pub mod obj;
+pub mod ply;
+pub mod texture;

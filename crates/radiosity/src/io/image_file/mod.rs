@@ -1,4 +1,5 @@
-//! Image files: tone-mapped PNG and linear-radiance PFM, OpenEXR and Radiance HDR.
+//! Image files: tone-mapped PNG and linear-radiance PFM, OpenEXR and Radiance HDR; [`read`]
+//! reads them back (and environment maps) as linear radiance.
 //!
 //! [`write_image`] picks the format from the extension:
 //!
@@ -15,6 +16,10 @@
 
 use std::io::{self, Cursor, Write};
 use std::path::{Path, PathBuf};
+
+pub mod read;
+
+pub use read::{read_image, read_pfm};
 
 use super::atomic::write_atomic;
 use crate::render::{tonemap, Image};
@@ -167,90 +172,6 @@ fn encode_exr(image: &Image) -> io::Result<Vec<u8>> {
     Ok(bytes.into_inner())
 }
 
-/// Reads a Portable Float Map (`PF` colour or `Pf` grey, either byte order) as linear radiance.
-///
-/// # Errors
-/// [`ImageError::Io`] if the file cannot be read, [`ImageError::Format`] if it is not a
-/// complete PFM file.
-pub fn read_pfm(path: &Path) -> Result<Image, ImageError> {
-    let bytes = std::fs::read(path).map_err(|cause| ImageError::Io {
-        path: path.to_path_buf(),
-        cause,
-    })?;
-    parse_pfm(&bytes).map_err(|reason| ImageError::Format {
-        path: path.to_path_buf(),
-        reason,
-    })
-}
-
-fn parse_pfm(bytes: &[u8]) -> Result<Image, String> {
-    // Header: four whitespace-separated tokens, then exactly one whitespace byte.
-    let mut tokens = Vec::with_capacity(4);
-    let mut pos = 0;
-    while tokens.len() < 4 {
-        while pos < bytes.len() && bytes[pos].is_ascii_whitespace() {
-            pos += 1;
-        }
-        let start = pos;
-        while pos < bytes.len() && !bytes[pos].is_ascii_whitespace() {
-            pos += 1;
-        }
-        if start == pos {
-            return Err("truncated PFM header".into());
-        }
-        tokens.push(String::from_utf8_lossy(&bytes[start..pos]).into_owned());
-    }
-    let data = bytes.get(pos + 1..).unwrap_or_default();
-    let channels = match tokens[0].as_str() {
-        "PF" => 3,
-        "Pf" => 1,
-        other => return Err(format!("not a PFM file (magic {other:?})")),
-    };
-    let parse = |t: &str, what: &str| t.parse::<u32>().map_err(|_| format!("bad {what} {t:?}"));
-    let width = parse(&tokens[1], "width")?;
-    let height = parse(&tokens[2], "height")?;
-    let scale: f32 = tokens[3]
-        .parse()
-        .map_err(|_| format!("bad scale {:?}", tokens[3]))?;
-    if scale == 0.0 || !scale.is_finite() {
-        return Err(format!("bad scale {scale}"));
-    }
-    let expected = width as usize * height as usize * channels * 4;
-    if data.len() < expected {
-        return Err(format!(
-            "{} bytes of pixel data, {expected} expected for {width}×{height}",
-            data.len()
-        ));
-    }
-    let value = |i: usize| {
-        let b = [
-            data[4 * i],
-            data[4 * i + 1],
-            data[4 * i + 2],
-            data[4 * i + 3],
-        ];
-        f64::from(if scale < 0.0 {
-            f32::from_le_bytes(b)
-        } else {
-            f32::from_be_bytes(b)
-        })
-    };
-    let mut image = Image::new(width, height);
-    let w = width as usize;
-    for (y, row) in image.pixels.chunks_mut(w.max(1)).enumerate() {
-        let file_row = height as usize - 1 - y;
-        for (x, pixel) in row.iter_mut().enumerate() {
-            let i = (file_row * w + x) * channels;
-            *pixel = if channels == 3 {
-                Rgb::new(value(i), value(i + 1), value(i + 2))
-            } else {
-                Rgb::splat(value(i))
-            };
-        }
-    }
-    Ok(image)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -365,22 +286,5 @@ mod tests {
             write_image(&scratch("noext"), &gradient(), 0.0),
             Err(ImageError::UnsupportedExtension { .. })
         ));
-    }
-
-    #[test]
-    fn bad_pfm_files_are_format_errors() {
-        for (name, bytes) in [
-            ("magic.pfm", &b"P6\n1 1\n255\n\0\0\0"[..]),
-            ("short.pfm", &b"PF\n2 2\n-1.0\n\0\0\0\0"[..]),
-            ("header.pfm", &b"PF\n2"[..]),
-        ] {
-            let path = scratch(name);
-            std::fs::write(&path, bytes).expect("seed");
-            assert!(
-                matches!(read_pfm(&path), Err(ImageError::Format { .. })),
-                "{name}"
-            );
-            std::fs::remove_file(&path).expect("cleanup");
-        }
     }
 }
