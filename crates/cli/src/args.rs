@@ -455,8 +455,9 @@ pub struct RunArgs {
     pub quiet: bool,
     /// When stderr is not a terminal (a log file, CI), progress comes as lines instead of
     /// bars: `STAGE done: COUNT WHAT, ... in S s` as each stage (meshing, form factors, solve,
-    /// hierarchical, display, render) ends, and `STAGE: DONE/TOTAL UNIT after S s` every this
-    /// many seconds within it (0: at its start and at every step).
+    /// hierarchical, display, render) ends (`STAGE stopped: ...` after a Ctrl-C), and `STAGE
+    /// (PHASE): DONE/TOTAL UNIT after S s` every this many seconds within it (0: at its start,
+    /// at each phase and at every step).
     #[arg(long, value_name = "SECONDS", default_value_t = 10.0, value_parser = interval)]
     pub progress_every: f64,
 }

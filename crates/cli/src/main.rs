@@ -13,8 +13,9 @@
 //! ```
 //!
 //! Progress goes to stderr: bars on a terminal; otherwise (a log file, CI) a line as each stage
-//! ends, `STAGE done: COUNT WHAT, ... in S s`, and `STAGE: DONE/TOTAL UNIT after S s` every
-//! `--progress-every` seconds within it (see `progress/lines.rs`); `--quiet` silences both.
+//! ends, `STAGE done: COUNT WHAT, ... in S s`, and `STAGE (PHASE): DONE/TOTAL UNIT after S s`
+//! every `--progress-every` seconds within it (see `progress/lines.rs`); `--quiet` silences
+//! both.
 //!
 //! Every failure prints one line `error: <cause>` on stderr (naming the file, line and key when
 //! the cause is in a scene) and exits with status 2; outputs are written atomically, so a failed

@@ -1,6 +1,6 @@
 //! What `render` and `solve` say on a stderr that is not a terminal: a summary line per stage
-//! (`STAGE done: COUNT WHAT, ... in S s`) and progress lines within (`STAGE: DONE[/TOTAL]
-//! UNIT after S s`), checked against the statistics file of the same run.
+//! (`STAGE done: COUNT WHAT, ... in S s`) and progress lines within (`STAGE[ (PHASE)]:
+//! DONE[/TOTAL] UNIT after S s`), checked against the statistics file of the same run.
 
 use std::path::Path;
 use std::process::Output;
@@ -63,9 +63,18 @@ fn seconds_of(text: &str, decimals: usize, line: &str) -> f64 {
     seconds
 }
 
-/// The stage of a progress line `STAGE: DONE[/TOTAL] UNIT after S s`, checked for format.
-fn progress_stage(line: &str) -> Option<&str> {
+/// The stage and phase of a progress line `STAGE[ (PHASE)]: DONE[/TOTAL] UNIT after S s`,
+/// checked for format.
+fn progress_stage(line: &str) -> Option<(&str, Option<&str>)> {
     let (stage, rest) = line.split_once(": ")?;
+    let (stage, phase) = match stage.split_once(" (") {
+        Some((stage, phase)) => {
+            let phase = phase.strip_suffix(')');
+            assert!(phase.is_some_and(|p| !p.is_empty()), "{line}");
+            (stage, phase)
+        }
+        None => (stage, None),
+    };
     let (work, seconds) = rest.strip_suffix(" s")?.rsplit_once(" after ")?;
     let (done, unit) = work.split_once(' ')?;
     let counts: Vec<&str> = done.split('/').collect();
@@ -75,7 +84,7 @@ fn progress_stage(line: &str) -> Option<&str> {
     );
     assert!(!unit.is_empty() && !unit.contains(' '), "{line}");
     seconds_of(seconds, 1, line);
-    Some(stage)
+    Some((stage, phase))
 }
 
 /// The summaries of `stderr`, in order.
@@ -138,7 +147,7 @@ fn a_piped_render_says_each_stage_with_its_counts_and_seconds() {
         if let Some(summary) = Summary::parse(line) {
             assert_eq!(current, Some(summary.stage.clone()), "{stderr}");
             current = None;
-        } else if let Some(stage) = progress_stage(line) {
+        } else if let Some((stage, _)) = progress_stage(line) {
             current.get_or_insert_with(|| {
                 let start = format!("{stage}: 0");
                 assert!(line.starts_with(&start), "{line}");
@@ -147,16 +156,38 @@ fn a_piped_render_says_each_stage_with_its_counts_and_seconds() {
             assert_eq!(current.as_deref(), Some(stage), "{stderr}");
         }
     }
+    // The meshing reports its passes as phases, in order.
+    let phases: Vec<&str> = stderr
+        .lines()
+        .filter_map(progress_stage)
+        .filter(|(stage, _)| *stage == "meshing")
+        .filter_map(|(_, phase)| phase)
+        .collect();
+    let mut order = phases.clone();
+    order.dedup();
+    assert_eq!(
+        order,
+        ["subdivision", "contacts", "shadows", "near field", "bvh"],
+        "{stderr}"
+    );
     std::fs::remove_dir_all(&dir).expect("cleanup");
 }
 
 #[test]
 fn a_piped_hierarchical_solve_says_its_elements_and_links() {
-    // The default interval (10 s): whether progress lines come depends on the machine, the
-    // summaries do not.
+    // Every step reported (interval 0): the passes come as phases, each refining then
+    // gathering, and the leaf solve last.
     let dir = scratch("progress-solve");
     let out = radiosity()
-        .args(["solve", "cornell", "--epsilon", "1e-3", "--stats"])
+        .args([
+            "solve",
+            "cornell",
+            "--epsilon",
+            "1e-3",
+            "--progress-every",
+            "0",
+        ])
+        .arg("--stats")
         .arg(dir.join("stats.json"))
         .output()
         .expect("runs");
@@ -175,6 +206,25 @@ fn a_piped_hierarchical_solve_says_its_elements_and_links() {
         hierarchical.count("iterations"),
         json["solver"]["iterations"].as_u64().unwrap()
     );
+    let mut phases: Vec<&str> = stderr
+        .lines()
+        .filter_map(progress_stage)
+        .filter(|(stage, _)| *stage == "hierarchical")
+        .filter_map(|(_, phase)| phase)
+        .collect();
+    phases.dedup();
+    let passes = (phases.len() - 1) / 2;
+    assert!(passes >= 2, "{stderr}");
+    let expected: Vec<String> = (1..=passes)
+        .flat_map(|p| {
+            [
+                format!("pass {p}/{passes}, refining"),
+                format!("pass {p}/{passes}, gathering"),
+            ]
+        })
+        .chain(["leaf solve".to_owned()])
+        .collect();
+    assert_eq!(phases, expected, "{stderr}");
     // Only the summaries, the progress lines and the run's closing lines.
     for line in stderr.lines() {
         let known = Summary::parse(line).is_some()

@@ -27,23 +27,48 @@ impl Bars {
     }
 }
 
+/// A bar's look for `total` units of work (a spinner when the total is not known), with the
+/// phase, if any, after the stage's name.
+fn style(total: u64) -> ProgressStyle {
+    let template = if total == 0 {
+        "{prefix:>14} {msg}{spinner} {pos} ({elapsed})"
+    } else {
+        "{prefix:>14} {msg}[{bar:30}] {pos}/{len} ({elapsed}, eta {eta})"
+    };
+    ProgressStyle::with_template(template)
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> ")
+}
+
+impl Bars {
+    /// Clears the current bar, if any, and prints `STAGE ENDED in S s`.
+    fn end_bar(&self, ended: &str) {
+        if let Some(bar) = self
+            .bar
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .take()
+        {
+            let seconds = bar.elapsed().as_secs_f64();
+            bar.finish_and_clear();
+            let _ = writeln!(
+                std::io::stderr(),
+                "{:>14} {ended} in {seconds:.2} s",
+                bar.prefix()
+            );
+        }
+    }
+}
+
 impl Progress for Bars {
     fn start(&self, stage: &str, work: Work) {
         let total = work.total;
         if !self.enabled {
             return;
         }
-        let template = if total == 0 {
-            "{prefix:>14} {spinner} {pos} ({elapsed})"
-        } else {
-            "{prefix:>14} [{bar:30}] {pos}/{len} ({elapsed}, eta {eta})"
-        };
-        let style = ProgressStyle::with_template(template)
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> ");
         let length = (total > 0).then_some(total);
         let bar = ProgressBar::with_draw_target(length, ProgressDrawTarget::stderr())
-            .with_style(style)
+            .with_style(style(total))
             .with_prefix(stage.to_string());
         bar.enable_steady_tick(Duration::from_millis(200));
         let previous = self
@@ -53,6 +78,26 @@ impl Progress for Bars {
             .replace(bar);
         if let Some(previous) = previous {
             previous.finish_and_clear();
+        }
+    }
+
+    /// Restarts the bar on the phase's work, naming the phase after the stage.
+    fn phase(&self, name: &str, work: Work) {
+        if let Some(bar) = self
+            .bar
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .as_ref()
+        {
+            bar.set_style(style(work.total));
+            if work.total == 0 {
+                bar.unset_length();
+            } else {
+                bar.set_length(work.total);
+            }
+            bar.set_position(0);
+            bar.reset_eta();
+            bar.set_message(format!("{name} "));
         }
     }
 
@@ -68,19 +113,10 @@ impl Progress for Bars {
     }
 
     fn finish(&self) {
-        if let Some(bar) = self
-            .bar
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .take()
-        {
-            let seconds = bar.elapsed().as_secs_f64();
-            bar.finish_and_clear();
-            let _ = writeln!(
-                std::io::stderr(),
-                "{:>14} done in {seconds:.2} s",
-                bar.prefix()
-            );
-        }
+        self.end_bar("done");
+    }
+
+    fn cut_short(&self) {
+        self.end_bar("stopped");
     }
 }

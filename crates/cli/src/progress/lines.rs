@@ -5,12 +5,15 @@
 //!
 //! ```text
 //! STAGE: DONE/TOTAL UNIT after S s                  while the stage runs, every `every`
+//! STAGE (PHASE): DONE/TOTAL UNIT after S s          the same within a phase of the stage
 //! STAGE done: COUNT WHAT, COUNT WHAT... in S s      when it ends
+//! STAGE stopped: DONE/TOTAL UNIT in S s             when it ends short of its work
 //! ```
 //!
 //! for instance
 //!
 //! ```text
+//! meshing (near field): 81920/543233 elements after 10.0 s
 //! meshing done: 6 patches, 2500 elements in 0.05 s
 //! form factors: 1536/2500 rows after 10.0 s
 //! form factors done: 2500 rows in 16.30 s
@@ -19,9 +22,13 @@
 //! ```
 //!
 //! A stage whose amount of work is not known in advance has no total in its progress lines
-//! (`solve: 37 iterations after 10.0 s`). The summary is the stage's tallies
-//! ([`Progress::tally`]) or, without them, the work done (`640/2500 rows` when a Ctrl-C cut
-//! the stage short). Seconds are wall-clock from the stage's start; counts are plain integers.
+//! (`solve: 37 iterations after 10.0 s`). A phase ([`Progress::phase`]: the meshing's
+//! `subdivision`, `contacts`, `shadows`, `near field`, `bvh`; the hierarchical solver's
+//! `pass 2/7, refining`) counts its own work from zero.
+//! The summary is the stage's tallies ([`Progress::tally`]) or, without them, the work done
+//! (`640/2500 rows` short of the total); a stage a Ctrl-C cut short ([`Progress::cut_short`])
+//! says `stopped`, never `done`. Seconds are wall-clock from the stage's start; counts are plain
+//! integers.
 //!
 //! A progress line is due once `every` has passed since the stage began or since its last
 //! line. [`Progress::advance`] writes it when due, and a ticker thread wakes when the next one
@@ -69,6 +76,8 @@ struct State {
 struct Stage {
     /// Its name (`"form factors"`).
     name: String,
+    /// The phase under way, if the stage announced one (`"near field"`).
+    phase: Option<String>,
     /// The work it announced.
     work: Work,
     /// Units of work done so far.
@@ -83,43 +92,41 @@ struct Stage {
 
 impl Stage {
     /// `STAGE: DONE/TOTAL UNIT after S s`, or `STAGE: DONE UNIT after S s` when the total is
-    /// not known.
+    /// not known; `STAGE (PHASE): ...` within a phase.
     fn progress_line(&self, now: Instant) -> String {
         let seconds = now.duration_since(self.began).as_secs_f64();
+        let name = match &self.phase {
+            Some(phase) => format!("{} ({phase})", self.name),
+            None => self.name.clone(),
+        };
         let Work { total, unit } = self.work;
         let done = self.done;
         if total == 0 {
-            format!("{}: {done} {unit} after {seconds:.1} s", self.name)
+            format!("{name}: {done} {unit} after {seconds:.1} s")
         } else {
-            format!("{}: {done}/{total} {unit} after {seconds:.1} s", self.name)
+            format!("{name}: {done}/{total} {unit} after {seconds:.1} s")
         }
     }
 
-    /// `STAGE done: COUNT WHAT, ... in S s`: the tallies, or else the work done.
-    fn summary_line(&self, now: Instant) -> String {
+    /// `STAGE done: COUNT WHAT, ... in S s` (`STAGE stopped: ...` if `stopped`): the
+    /// tallies, or else the work done, `DONE/TOTAL UNIT` short of the total.
+    fn summary_line(&self, now: Instant, stopped: bool) -> String {
         let seconds = now.duration_since(self.began).as_secs_f64();
-        let summary = if self.tallies.is_empty() {
-            self.work_done()
-        } else {
+        let Work { total, unit } = self.work;
+        let summary = if !self.tallies.is_empty() {
             let figures: Vec<String> = self
                 .tallies
                 .iter()
                 .map(|(count, what)| format!("{count} {what}"))
                 .collect();
             figures.join(", ")
-        };
-        format!("{} done: {summary} in {seconds:.2} s", self.name)
-    }
-
-    /// The summary of a stage without tallies: `DONE/TOTAL UNIT` short of the total, `DONE
-    /// UNIT` once there or without one.
-    fn work_done(&self) -> String {
-        let Work { total, unit } = self.work;
-        if total == 0 || self.done >= total {
+        } else if total == 0 || self.done >= total {
             format!("{} {unit}", self.done)
         } else {
             format!("{}/{total} {unit}", self.done)
-        }
+        };
+        let ended = if stopped { "stopped" } else { "done" };
+        format!("{} {ended}: {summary} in {seconds:.2} s", self.name)
     }
 }
 
@@ -145,10 +152,10 @@ impl State {
         self.write_line(&line);
     }
 
-    /// Ends the current stage, if any, with its summary line.
-    fn end_stage(&mut self) {
+    /// Ends the current stage, if any, with its summary line (`stopped`: cut short).
+    fn end_stage(&mut self, stopped: bool) {
         if let Some(stage) = self.stage.take() {
-            let line = stage.summary_line(Instant::now());
+            let line = stage.summary_line(Instant::now(), stopped);
             self.write_line(&line);
         }
     }
@@ -214,13 +221,14 @@ impl Lines {
 }
 
 impl Progress for Lines {
-    /// Begins `stage`; a stage still under way is ended first, with its summary.
+    /// Begins `stage`; a stage still under way is ended first, with its summary (as done).
     fn start(&self, stage: &str, work: Work) {
         let mut state = self.shared.lock();
-        state.end_stage();
+        state.end_stage(false);
         let now = Instant::now();
         state.stage = Some(Stage {
             name: stage.to_owned(),
+            phase: None,
             work,
             done: 0,
             tallies: Vec::new(),
@@ -229,6 +237,19 @@ impl Progress for Lines {
         });
         state.report_if_due(self.shared.every, now);
         self.shared.wake.notify_all();
+    }
+
+    /// Counts the phase's work from here on; with `every` zero, reports its start.
+    fn phase(&self, name: &str, work: Work) {
+        let mut state = self.shared.lock();
+        if let Some(stage) = &mut state.stage {
+            stage.phase = Some(name.to_owned());
+            stage.work = work;
+            stage.done = 0;
+            if self.shared.every.is_zero() {
+                state.report_if_due(Duration::ZERO, Instant::now());
+            }
+        }
     }
 
     fn advance(&self, n: u64) {
@@ -246,7 +267,11 @@ impl Progress for Lines {
     }
 
     fn finish(&self) {
-        self.shared.lock().end_stage();
+        self.shared.lock().end_stage(false);
+    }
+
+    fn cut_short(&self) {
+        self.shared.lock().end_stage(true);
     }
 }
 
@@ -382,6 +407,13 @@ mod tests {
         let lines = Lines::new(Box::new(buffer.clone()), Duration::MAX);
         lines.start("render", Work::of(256, "tiles"));
         lines.advance(12);
+        lines.cut_short();
+        lines.start("solve", Work::open_ended("iterations"));
+        lines.advance(3);
+        lines.tally(3, "iterations");
+        lines.cut_short();
+        lines.start("form factors", Work::of(64, "rows"));
+        lines.advance(16);
         // A new stage ends the one under way with its summary.
         lines.start("display", Work::of(8, "levels"));
         lines.advance(8);
@@ -399,8 +431,41 @@ mod tests {
         assert_eq!(
             lines,
             [
-                "render done: 12/256 tiles in S s",
-                "display done: 8 levels in S s"
+                "render stopped: 12/256 tiles in S s",
+                "solve stopped: 3 iterations in S s",
+                "form factors done: 16/64 rows in S s",
+                "display done: 8 levels in S s",
+            ]
+        );
+    }
+
+    #[test]
+    fn a_phase_names_itself_and_counts_its_own_work() {
+        let buffer = Buffer::default();
+        let lines = Lines::new(Box::new(buffer.clone()), Duration::ZERO);
+        lines.start("meshing", Work::open_ended("elements"));
+        lines.phase("contacts", Work::open_ended("elements"));
+        lines.advance(5);
+        lines.phase("near field", Work::of(9, "elements"));
+        lines.advance(9);
+        lines.tally(2, "patches");
+        lines.tally(9, "elements");
+        lines.finish();
+        drop(lines);
+        let lines: Vec<String> = buffer
+            .lines()
+            .iter()
+            .map(|l| without_seconds(l, if l.contains(" done: ") { 2 } else { 1 }))
+            .collect();
+        assert_eq!(
+            lines,
+            [
+                "meshing: 0 elements after S s",
+                "meshing (contacts): 0 elements after S s",
+                "meshing (contacts): 5 elements after S s",
+                "meshing (near field): 0/9 elements after S s",
+                "meshing (near field): 9/9 elements after S s",
+                "meshing done: 2 patches, 9 elements in S s",
             ]
         );
     }

@@ -62,6 +62,14 @@ impl Progress for Stderr {
         }
     }
 
+    fn phase(&self, name: &str, work: Work) {
+        match self {
+            Self::Quiet => {}
+            Self::Bars(bars) => bars.phase(name, work),
+            Self::Lines(lines) => lines.phase(name, work),
+        }
+    }
+
     fn advance(&self, n: u64) {
         match self {
             Self::Quiet => {}
@@ -83,6 +91,14 @@ impl Progress for Stderr {
             Self::Quiet => {}
             Self::Bars(bars) => bars.finish(),
             Self::Lines(lines) => lines.finish(),
+        }
+    }
+
+    fn cut_short(&self) {
+        match self {
+            Self::Quiet => {}
+            Self::Bars(bars) => bars.cut_short(),
+            Self::Lines(lines) => lines.cut_short(),
         }
     }
 }

@@ -142,7 +142,7 @@ pub fn render_watched(
         let pixels = u64::from(setup.width) * u64::from(setup.height);
         watch.progress.tally(pixels, "pixels");
     }
-    watch.progress.finish();
+    watch.progress.end(watch.stopped());
     (!watch.stopped()).then_some(image)
 }
 

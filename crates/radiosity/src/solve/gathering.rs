@@ -59,7 +59,7 @@ pub(super) fn solve(job: Job, solution: &mut Solution, sweeps: Sweeps) -> Result
     let run = sweeps(&system, &matrix, settings, &mut session, progress);
     progress.tally(run.iterations as u64, "iterations");
     progress.tally(solution.links, "links");
-    progress.finish();
+    progress.end(run.interrupted);
     solution.irradiance = system.irradiance(&matrix, &run.radiosity);
     // The gather is linear in B but for the buried emission it takes off every source's mean,
     // which is the same for B and for E alone: it cancels in the difference.

@@ -197,7 +197,8 @@ impl Matrix {
                 .map(|k| Some(NearChunk::empty(rows, k)))
                 .collect()
         };
-        progress.finish();
+        // A chunk is missing only when the stop flag skipped it.
+        progress.end(chunks.iter().any(Option::is_none));
         let done = chunks.iter().map(Option::is_some).collect();
         let near = Near {
             chunks: chunks

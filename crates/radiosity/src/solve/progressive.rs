@@ -86,7 +86,7 @@ impl Solver for Progressive {
         let run = run(&system, g, ff, settings, &mut session, progress);
         progress.tally(run.iterations as u64, "iterations");
         progress.tally(run.links, "links");
-        progress.finish();
+        progress.end(run.interrupted);
         solution.radiosity = run.radiosity;
         solution.irradiance = run.irradiance;
         solution.iterations = run.iterations;

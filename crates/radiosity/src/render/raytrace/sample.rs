@@ -172,7 +172,7 @@ where
             .progress
             .tally(u64::from(width) * u64::from(height), "pixels");
     }
-    watch.progress.finish();
+    watch.progress.end(watch.stopped());
     if watch.stopped() {
         return None;
     }

@@ -233,7 +233,7 @@ impl Refiner<'_> {
             .map(|(v, f)| f.map(|(t, at)| self.value_unless(positions[v], t, at, watch)))
             .collect();
         if watch.stopped() {
-            watch.progress.finish();
+            watch.progress.cut_short();
             return None;
         }
         watch.progress.advance(1);
@@ -253,7 +253,7 @@ impl Refiner<'_> {
                 continue;
             }
             if watch.stopped() {
-                watch.progress.finish();
+                watch.progress.cut_short();
                 return None;
             }
             // The edges of the open pieces not decided yet, in a fixed order.
@@ -280,7 +280,7 @@ impl Refiner<'_> {
                 .map(|m| self.value_unless(m.point, m.triangle, m.at, watch))
                 .collect();
             if watch.stopped() {
-                watch.progress.finish();
+                watch.progress.cut_short();
                 return None;
             }
             // The failing edges, worst first, within the budget.
