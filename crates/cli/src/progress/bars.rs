@@ -89,15 +89,17 @@ impl Progress for Bars {
             .unwrap_or_else(PoisonError::into_inner)
             .as_ref()
         {
-            bar.set_style(style(work.total));
+            // The position first: a redraw between two of these calls never shows the new
+            // length under the old phase's count.
+            bar.set_position(0);
             if work.total == 0 {
                 bar.unset_length();
             } else {
                 bar.set_length(work.total);
             }
-            bar.set_position(0);
             bar.reset_eta();
             bar.set_message(format!("{name} "));
+            bar.set_style(style(work.total));
         }
     }
 
