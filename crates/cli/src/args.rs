@@ -449,9 +449,17 @@ pub struct RunArgs {
     /// Worker threads (default: one per core). Results do not depend on it.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=4096))]
     pub threads: Option<u64>,
-    /// No progress bars, warnings or messages on stderr (errors are still printed).
+    /// No progress bars, progress lines, warnings or messages on stderr (errors are still
+    /// printed).
     #[arg(short, long)]
     pub quiet: bool,
+    /// When stderr is not a terminal (a log file, CI), progress comes as lines instead of
+    /// bars: `STAGE done: COUNT WHAT, ... in S s` as each stage (meshing, form factors, solve,
+    /// hierarchical, display, render) ends (`STAGE stopped: ...` after a Ctrl-C), and `STAGE
+    /// (PHASE): DONE/TOTAL UNIT after S s` every this many seconds within it (0: at its start,
+    /// at each phase and at every step).
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0, value_parser = interval)]
+    pub progress_every: f64,
 }
 
 /// `radiosity bench`.
@@ -607,6 +615,14 @@ fn positive_f64(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
         Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
         _ => Err(format!("`{s}` is not a positive number")),
+    }
+}
+
+/// An interval in seconds: a number from 0 to 10⁹ (about 32 years).
+fn interval(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if (0.0..=1e9).contains(&x) => Ok(x),
+        _ => Err(format!("`{s}` is not a number of seconds from 0 to 1e9")),
     }
 }
 

@@ -13,10 +13,10 @@ use radiosity::io::atomic::write_atomic;
 use radiosity::mesh::{Mesh, Subdivision};
 use radiosity::scene::builtin;
 
-use radiosity::progress::Progress;
+use radiosity::progress::{Progress, Work};
 
 use crate::args::{BenchArgs, BenchIsa};
-use crate::bars::Bars;
+use crate::progress::Bars;
 
 /// The built-in Cornell box's polygons as triangles, with the camera of its scene file
 /// (`scenes/cornell/scene.toml`, millimetres) and a light just under its ceiling light.
@@ -79,7 +79,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         }
         let scene = make(target)?;
         // A spinner while the scene is built and measured (stderr, on a terminal only).
-        bars.start(&format!("bench {}", scene.name), 0);
+        bars.start(&format!("bench {}", scene.name), Work::open_ended("steps"));
         let sets = ray_sets(&scene, args);
         if let Some(dir) = &args.workload {
             let path = dir.join(format!("{}.bin", scene.name));

@@ -20,13 +20,13 @@ use std::process::Command;
 
 use anyhow::{bail, Context};
 use radiosity::pipeline::{self, Settings};
-use radiosity::progress::{Progress, Silent};
+use radiosity::progress::{Progress, Silent, Work};
 use radiosity::scene::builtin;
 use radiosity::{solve, Scene};
 use serde::{Deserialize, Serialize};
 
 use crate::args::BenchArgs;
-use crate::bars::Bars;
+use crate::progress::Bars;
 
 /// The Cornell box's ε, coarse to fine.
 const EPSILONS: [f64; 4] = [1e-3, 1e-4, 3e-5, 1e-5];
@@ -88,7 +88,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         "hier. MB"
     )?;
     let bars = Bars::new(std::io::stderr().is_terminal());
-    bars.start("bench cases", cases.len() as u64);
+    bars.start("bench cases", Work::of(cases.len() as u64, "cases"));
     for k in 0..cases.len() {
         let output = Command::new(&exe)
             .args(["bench", "--suite", "hierarchical", "--largest"])

@@ -16,12 +16,12 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use radiosity::io::atomic::write_atomic;
 use radiosity::io::image_file::read_pfm;
-use radiosity::progress::Progress;
+use radiosity::progress::{Progress, Work};
 use radiosity::render::image_error::block_error;
 use serde::Serialize;
 
 use crate::args::BenchArgs;
-use crate::bars::Bars;
+use crate::progress::Bars;
 
 /// The configurations measured: a name and the `render` flags that make it.
 const CONFIGURATIONS: [(&str, &[&str]); 10] = [
@@ -107,7 +107,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         "configuration", "error", "bias", "time s"
     )?;
     let bars = Bars::new(std::io::stderr().is_terminal());
-    bars.start("bench image", CONFIGURATIONS.len() as u64);
+    bars.start(
+        "bench image",
+        Work::of(CONFIGURATIONS.len() as u64, "configurations"),
+    );
     let mut all = Vec::new();
     for (k, (name, flags)) in CONFIGURATIONS.iter().enumerate() {
         let image = dir.0.join(format!("{k}.pfm"));

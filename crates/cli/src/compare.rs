@@ -14,6 +14,7 @@ use radiosity::Rgb;
 use crate::args::{CompareArgs, Mode};
 use crate::job;
 use crate::picture;
+use crate::progress::Reporting;
 
 /// `radiosity compare`.
 pub fn run(args: &CompareArgs) -> Result<()> {
@@ -51,7 +52,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
                 &raster,
                 args.gather,
                 true,
-                common.run.quiet,
+                Reporting::of(&common.run),
             )?;
             panels.push((label, image));
             job::say(

@@ -6,7 +6,7 @@
 //! ([`radiosity::io::atomic::Batch`]), so a failure anywhere leaves none of them, and no
 //! partial file.
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
@@ -26,9 +26,9 @@ use radiosity::stats::Timings;
 use radiosity::Scene;
 
 use crate::args::{CommonArgs, FrameArgs, Mode, RenderArgs, SolveArgs, Solver, ViewArgs};
-use crate::bars::Bars;
 use crate::interrupt::{stop_flag, Interrupted};
 use crate::picture;
+use crate::progress::Reporting;
 use crate::settings;
 
 /// Image extensions `--output` accepts.
@@ -142,8 +142,8 @@ fn render_job(args: &RenderArgs) -> Result<()> {
         args.outputs.clone()
     };
     if args.mode == Mode::Local {
-        let image =
-            picture::render_local(&scene, &camera, &raster, !args.no_shadows, common.run.quiet)?;
+        let reporting = Reporting::of(&common.run);
+        let image = picture::render_local(&scene, &camera, &raster, !args.no_shadows, reporting)?;
         let exposure = args
             .exposure
             .unwrap_or_else(|| tonemap::auto_exposure(&image));
@@ -184,7 +184,7 @@ fn render_job(args: &RenderArgs) -> Result<()> {
         &raster,
         args.gather,
         !args.no_shadows,
-        common.run.quiet,
+        Reporting::of(&common.run),
     )?;
     let exposure = args
         .exposure
@@ -300,7 +300,8 @@ fn pick_camera(scene: &Scene, name: Option<&str>, view: &ViewArgs) -> Result<Cam
     }
 }
 
-/// Meshes, computes form factors and solves, with progress bars when stderr is a terminal.
+/// Meshes, computes form factors and solves, reporting the stages on stderr
+/// ([`Reporting::on_stderr`]: bars on a terminal, lines otherwise).
 /// Ctrl-C stops the solve (see [`Interrupted`]); `--checkpoint` and `--resume` apply. The lit
 /// mesh is refined for display (`--display`) only if `shows_lit`: something will show it.
 pub(crate) fn run_solve(scene: Scene, common: &CommonArgs, shows_lit: bool) -> Result<Solved> {
@@ -309,8 +310,8 @@ pub(crate) fn run_solve(scene: Scene, common: &CommonArgs, shows_lit: bool) -> R
         settings.display = pipeline::Display::Averaged;
     }
     let control = control(common)?;
-    let bars = Bars::new(!common.run.quiet && std::io::stderr().is_terminal());
-    let solved = pipeline::solve_controlled(scene, &settings, &control, &bars);
+    let progress = Reporting::of(&common.run).on_stderr();
+    let solved = pipeline::solve_controlled(scene, &settings, &control, &progress);
     if let Ok(solved) = &solved {
         let subdivision = common.mesh.elements.is_some() || common.mesh.max_element_area.is_some();
         if subdivision
@@ -635,7 +636,6 @@ fn extension(path: &Path) -> String {
         .unwrap_or_default()
 }
 
-/// A message on stderr unless `--quiet`.
 /// Whether to write `path`: always after a complete solve; after an interrupted one only if it
 /// does not exist yet or `--write-partial` asks (partial results never silently replace a
 /// finished run's files), saying so when it is kept.
@@ -653,6 +653,7 @@ pub(crate) fn may_write(path: &Path, solved: &Solved, common: &CommonArgs) -> bo
     false
 }
 
+/// A message on stderr unless `--quiet`.
 pub(crate) fn say(common: &CommonArgs, message: &str) {
     if !common.run.quiet {
         let _ = writeln!(std::io::stderr(), "{message}");

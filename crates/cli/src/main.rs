@@ -12,6 +12,11 @@
 //! radiosity solve SCENE --export scene.html --plot convergence.svg
 //! ```
 //!
+//! Progress goes to stderr: bars on a terminal; otherwise (a log file, CI) a line as each stage
+//! ends, `STAGE done: COUNT WHAT, ... in S s`, and `STAGE (PHASE): DONE/TOTAL UNIT after S s`
+//! every `--progress-every` seconds within it (see `progress/lines.rs`); `--quiet` silences
+//! both.
+//!
 //! Every failure prints one line `error: <cause>` on stderr (naming the file, line and key when
 //! the cause is in a scene) and exits with status 2; outputs are written atomically, so a failed
 //! run leaves no partial file. Ctrl-C stops a solve between iterations: the solution so far is
@@ -20,7 +25,6 @@
 #![forbid(unsafe_code)]
 
 mod args;
-mod bars;
 mod bench;
 mod bench_hierarchical;
 mod bench_image;
@@ -32,6 +36,7 @@ mod info;
 mod interrupt;
 mod job;
 mod picture;
+mod progress;
 mod reference_suite;
 mod settings;
 mod validate;

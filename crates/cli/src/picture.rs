@@ -1,7 +1,5 @@
-//! A picture of a solved scene in one of the render modes, with a progress bar and the
-//! Ctrl-C flag: what `render` and `compare` both draw with.
-
-use std::io::IsTerminal;
+//! A picture of a solved scene in one of the render modes, reporting its progress and
+//! listening to the Ctrl-C flag: what `render` and `compare` both draw with.
 
 use anyhow::Result;
 use radiosity::mesh::{display, Mesh, Subdivision};
@@ -14,12 +12,12 @@ use radiosity::Rgb;
 use radiosity::Scene;
 
 use crate::args::Mode;
-use crate::bars::Bars;
 use crate::interrupt::{stop_flag, Interrupted};
+use crate::progress::Reporting;
 
 /// The image of `solved` seen by `camera` in `mode`; `gather` is the final-gather ray count of
 /// the ray tracer, `shadows` whether local illumination casts shadows. Every mode reports
-/// progress and stops on Ctrl-C ([`Interrupted`], nothing written).
+/// progress as `reporting` asks and stops on Ctrl-C ([`Interrupted`], nothing written).
 pub fn render_mode(
     solved: &Solved,
     camera: &Camera,
@@ -27,7 +25,7 @@ pub fn render_mode(
     raster: &RasterSettings,
     gather: u32,
     shadows: bool,
-    quiet: bool,
+    reporting: Reporting,
 ) -> Result<Image> {
     let mode = match mode {
         Mode::Radiosity => render::Mode::Radiosity,
@@ -41,7 +39,9 @@ pub fn render_mode(
         }),
         Mode::Final => render::Mode::Final(RaytraceSettings::default()),
     };
-    watched(quiet, |watch| solved.render(&mode, camera, raster, watch))
+    watched(reporting, |watch| {
+        solved.render(&mode, camera, raster, watch)
+    })
 }
 
 /// Local illumination of `scene` without a radiosity solve: its patches unsubdivided (the local
@@ -51,7 +51,7 @@ pub fn render_local(
     camera: &Camera,
     raster: &RasterSettings,
     shadows: bool,
-    quiet: bool,
+    reporting: Reporting,
 ) -> Result<Image> {
     let mesh = Mesh::build(scene, Subdivision::MaxArea(f64::INFINITY));
     let lit = display::lit_mesh(&mesh, &vec![Rgb::ZERO; mesh.element_count()]);
@@ -59,18 +59,18 @@ pub fn render_local(
         shadows,
         ..LocalSettings::default()
     };
-    watched(quiet, |watch| {
+    watched(reporting, |watch| {
         local::render(scene, &mesh, &lit, camera, raster, &settings, watch)
     })
 }
 
-/// Runs a render with a progress bar (on a terminal, unless `quiet`) and the Ctrl-C flag;
-/// `None` from it is an interruption.
-fn watched(quiet: bool, render: impl FnOnce(&Watch) -> Option<Image>) -> Result<Image> {
-    let bars = Bars::new(!quiet && std::io::stderr().is_terminal());
+/// Runs a render reporting to stderr as `reporting` asks, with the Ctrl-C flag; `None` from
+/// it is an interruption.
+fn watched(reporting: Reporting, render: impl FnOnce(&Watch) -> Option<Image>) -> Result<Image> {
+    let progress = reporting.on_stderr();
     let stop = stop_flag();
     let watch = Watch {
-        progress: &bars,
+        progress: &progress,
         stop: Some(&stop),
     };
     render(&watch)

@@ -19,7 +19,7 @@ use std::time::Instant;
 
 use radiosity::mesh::Subdivision;
 use radiosity::pipeline::{self, Settings};
-use radiosity::progress::{Progress, Silent};
+use radiosity::progress::{Progress, Silent, Work};
 use radiosity::stats::Timings;
 use radiosity::{formfactor, solve, Scene};
 
@@ -121,7 +121,7 @@ pub fn rows(
     );
     let mut out = Vec::new();
     let cases = files.len() * solvers.len() * form_factors.len();
-    progress.start("suite", cases as u64);
+    progress.start("suite", Work::of(cases as u64, "cases"));
     for file in &files {
         let reference = read_reference(file)?;
         let scene_path = root.join(&reference.scene);

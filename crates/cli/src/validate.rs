@@ -137,7 +137,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
                 .map(|s| s.parse::<formfactor::Method>().map_err(anyhow::Error::from))
                 .collect::<anyhow::Result<_>>()?
         };
-        let bars = crate::bars::Bars::new(std::io::stderr().is_terminal());
+        let bars = crate::progress::Bars::new(std::io::stderr().is_terminal());
         rows.extend(reference_suite::rows(
             &args.suite_dir,
             &args.suite_scenes,

@@ -307,14 +307,25 @@ fn solve_exports_ply_with_object_names() {
     fs::remove_dir_all(&dir).expect("cleanup");
 }
 
+/// Whether `line` reports a stage (`STAGE done: ... in S s`, `STAGE: ... after S s`): a run
+/// whose stderr is no terminal says so of the stages it finished before a failure.
+fn stage_line(line: &str) -> bool {
+    line.ends_with(" s") && (line.contains(" done: ") || line.contains(" after "))
+}
+
 /// Checks a failure: status 2, exactly one stderr line `error: ...` containing every one of
-/// `mentions`, and no file in `dir` other than `keep`.
+/// `mentions` (besides the lines of the stages run before it), and no file in `dir` other
+/// than the scenes.
 fn assert_fails(name: &str, args: &[&str], mentions: &[&str]) {
     let dir = scratch(name);
     fs::write(dir.join("room.toml"), scene_text("")).expect("write scene");
     fs::write(dir.join("bad.toml"), scene_text("colour = [1, 0, 0]")).expect("write scene");
     let out = run(&dir, args);
-    let err = stderr(&out);
+    let err: String = stderr(&out)
+        .lines()
+        .filter(|l| !stage_line(l))
+        .map(|l| format!("{l}\n"))
+        .collect();
     assert_eq!(out.status.code(), Some(2), "{name}: {err}");
     assert_eq!(err.lines().count(), 1, "{name}: one line expected: {err}");
     assert!(err.starts_with("error: "), "{name}: {err}");
@@ -783,21 +794,27 @@ fn a_render_exports_its_own_camera_first() {
 
 #[test]
 fn a_failing_output_leaves_none_of_the_outputs() {
-    // The export's directory vanishes while the scene solves: the image, written before it,
-    // and the stats must not appear either, and no temporary file may stay behind.
+    // The export's directory vanishes after the run has checked its outputs: the image,
+    // written before the export, and the stats must not appear either, and no temporary file
+    // may stay behind. The run checks its outputs before it reads the scene, and the scene
+    // comes through a named pipe: once the run has opened the pipe (the test's opening of it
+    // for writing returns), the check is behind it; the directory is then removed and the
+    // scene written. No clock decides the order.
     let dir = scratch("all-or-nothing");
     fs::create_dir_all(dir.join("sub")).expect("mkdir");
     fs::write(dir.join("out.png"), b"earlier").expect("seed");
-    let child = radiosity()
+    let pipe = dir.join("scene.toml");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&pipe)
+        .status()
+        .expect("mkfifo runs");
+    assert!(made.success());
+    let mut child = radiosity()
         .args([
             "render",
-            "cornell",
+            "scene.toml",
             "--elements",
-            "1500",
-            "--width",
-            "64",
-            "--height",
-            "64",
+            "200",
             "-o",
             "out.png",
             "--export",
@@ -809,8 +826,27 @@ fn a_failing_output_leaves_none_of_the_outputs() {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("spawns");
-    std::thread::sleep(std::time::Duration::from_millis(500));
+    // Opening a pipe for writing waits for its reader: on a thread, while this one watches
+    // for a run that ends without reading the scene (a failure, not a hang).
+    let (opened, open) = std::sync::mpsc::channel();
+    let writer = pipe.clone();
+    std::thread::spawn(move || {
+        let _ = opened.send(fs::OpenOptions::new().write(true).open(writer));
+    });
+    let mut scene = loop {
+        match open.recv_timeout(std::time::Duration::from_millis(100)) {
+            Ok(file) => break file.expect("opens the pipe"),
+            Err(_) => {
+                if child.try_wait().expect("polls").is_some() {
+                    let out = child.wait_with_output().expect("waits");
+                    panic!("the run ended without reading its scene: {}", stderr(&out));
+                }
+            }
+        }
+    };
     fs::remove_dir(dir.join("sub")).expect("rmdir");
+    std::io::Write::write_all(&mut scene, scene_text("").as_bytes()).expect("write scene");
+    drop(scene);
     let out = child.wait_with_output().expect("waits");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
@@ -822,7 +858,7 @@ fn a_failing_output_leaves_none_of_the_outputs() {
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
         .collect();
     left.sort();
-    assert_eq!(left, ["out.png"], "{stderr}");
+    assert_eq!(left, ["out.png", "scene.toml"], "{stderr}");
     assert_eq!(fs::read(dir.join("out.png")).expect("read"), b"earlier");
     fs::remove_dir_all(&dir).expect("cleanup");
 }

@@ -1,12 +1,102 @@
 //! Ctrl-C during a solve, checkpoints and resuming, through the command line.
+//!
+//! No test here depends on how fast the machine is: each run reports its stages on stderr as
+//! lines (`--progress-every 0`: a line as each stage starts and at each step of its work), and
+//! the test sends SIGINT once the line of the stage it means to interrupt has appeared. The
+//! stage has seconds to minutes of work left by then. A timeout guards only against a run
+//! that hangs; it never decides success.
 
+use std::io::{BufRead, BufReader};
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
-use std::time::Duration;
+use std::process::{Command, ExitStatus, Output, Stdio};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
+use std::time::{Duration, Instant};
 
 mod common;
 
 use common::{radiosity, scratch};
+
+/// How long a test waits for a line or for the exit before it calls the run hung: a guard,
+/// far beyond what any run here takes on a loaded machine.
+const GUARD: Duration = Duration::from_secs(900);
+
+/// Whether `line` is a progress line of `stage` (`STAGE: DONE[/TOTAL] UNIT after S s`) with
+/// at least `done` units done.
+fn progress_of(line: &str, stage: &str, done: u64) -> bool {
+    line.strip_prefix(stage)
+        .and_then(|rest| rest.strip_prefix(": "))
+        .filter(|rest| rest.ends_with(" s") && rest.contains(" after "))
+        .and_then(|rest| rest.split([' ', '/']).next())
+        .and_then(|n| n.parse::<u64>().ok())
+        .is_some_and(|n| n >= done)
+}
+
+/// The lines of a child's stderr as they come, read on a thread of their own.
+fn stderr_lines(child: &mut std::process::Child) -> Receiver<String> {
+    let stderr = child.stderr.take().expect("stderr piped");
+    let (send, lines) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            if send.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    lines
+}
+
+/// Runs `cmd` (stderr piped), waits for a stderr line that satisfies `ready`, sends SIGINT and
+/// waits for the exit; returns the exit status and the whole stderr.
+fn interrupted_when(mut cmd: Command, ready: impl Fn(&str) -> bool) -> Output {
+    let mut child = cmd.spawn().expect("spawns");
+    let lines = stderr_lines(&mut child);
+    let mut seen: Vec<String> = Vec::new();
+    let deadline = Instant::now() + GUARD;
+    loop {
+        match lines.recv_timeout(deadline.saturating_duration_since(Instant::now())) {
+            Ok(line) => {
+                let found = ready(&line);
+                seen.push(line);
+                if found {
+                    break;
+                }
+            }
+            Err(RecvTimeoutError::Timeout) => {
+                let _ = child.kill();
+                panic!("hung: no awaited line in {GUARD:?}:\n{}", seen.join("\n"));
+            }
+            Err(RecvTimeoutError::Disconnected) => {
+                let status = child.wait().expect("waits");
+                panic!(
+                    "ended ({status}) before the awaited line:\n{}",
+                    seen.join("\n")
+                );
+            }
+        }
+    }
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(killed.success());
+    // The rest of stderr, to its end: the run has exited (or closed stderr) by then.
+    loop {
+        match lines.recv_timeout(deadline.saturating_duration_since(Instant::now())) {
+            Ok(line) => seen.push(line),
+            Err(RecvTimeoutError::Disconnected) => break,
+            Err(RecvTimeoutError::Timeout) => {
+                let _ = child.kill();
+                panic!("hung after SIGINT:\n{}", seen.join("\n"));
+            }
+        }
+    }
+    let status: ExitStatus = child.wait().expect("waits");
+    Output {
+        status,
+        stdout: Vec::new(),
+        stderr: (seen.join("\n") + "\n").into_bytes(),
+    }
+}
 
 fn stats_iterations(path: &Path) -> (String, u64) {
     let json: serde_json::Value =
@@ -25,6 +115,7 @@ fn render_in(dir: &Path, args: &[&str]) -> Command {
         .arg(dir.join("out.png"))
         .arg("--stats")
         .arg(dir.join("stats.json"))
+        .args(["--progress-every", "0"])
         .stdout(Stdio::null())
         .stderr(Stdio::piped());
     cmd
@@ -52,24 +143,9 @@ fn long_render(dir: &Path) -> Command {
     cmd
 }
 
-/// Runs `cmd`, sends it SIGINT after 3 s and waits for it.
-fn interrupted_after_3_s(cmd: Command) -> Output {
-    interrupted_after(cmd, Duration::from_secs(3)).0
-}
-
-/// Runs `cmd`, sends it SIGINT after `delay` and waits for it; also returns the time from the
-/// signal to its exit.
-fn interrupted_after(mut cmd: Command, delay: Duration) -> (Output, Duration) {
-    let child = cmd.spawn().expect("spawns");
-    std::thread::sleep(delay);
-    let asked = std::time::Instant::now();
-    let killed = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill runs");
-    assert!(killed.success());
-    let out = child.wait_with_output().expect("waits");
-    (out, asked.elapsed())
+/// Runs the long progressive render `cmd` and interrupts it once it has done an iteration.
+fn interrupted_in_the_solve(cmd: Command) -> Output {
+    interrupted_when(cmd, |line| progress_of(line, "solve", 1))
 }
 
 /// `radiosity solve cornell FLAGS EXTRA --stats DIR/STATS`, its stderr captured.
@@ -98,7 +174,7 @@ fn assert_resumed_like_full(dir: &Path, resumed: &Output) {
 #[test]
 fn sigint_writes_the_solution_so_far_and_exits_130() {
     let dir = scratch("sigint");
-    let out = interrupted_after_3_s(long_render(&dir));
+    let out = interrupted_in_the_solve(long_render(&dir));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{stderr}");
     let line = stderr
@@ -141,8 +217,8 @@ fn sigint_writes_the_solution_so_far_and_exits_130() {
 #[test]
 fn sigint_stops_the_hierarchical_solver_too() {
     // ε = 10⁻⁷ refines for minutes; the stop flag is read before every link of a refinement
-    // round and between gather iterations, and the links of the last whole round give a valid
-    // solution.
+    // round (`refine::tests`) and between gather iterations, and the links of the last whole
+    // round give a valid solution. The signal comes as the hierarchical stage begins.
     let dir = scratch("sigint-hierarchical");
     let cmd = render_in(
         &dir,
@@ -158,12 +234,7 @@ fn sigint_stops_the_hierarchical_solver_too() {
             "32",
         ],
     );
-    let asked = std::time::Instant::now() + Duration::from_secs(3);
-    let out = interrupted_after_3_s(cmd);
-    // The refinement round itself reads the flag before each link: it used to finish its
-    // round first, 3-16 s on larger scenes.
-    let latency = std::time::Instant::now().saturating_duration_since(asked);
-    assert!(latency < Duration::from_millis(2500), "{latency:?}");
+    let out = interrupted_when(cmd, |line| progress_of(line, "hierarchical", 0));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{stderr}");
     assert!(
@@ -294,8 +365,8 @@ fn a_mismatched_or_broken_checkpoint_is_refused_with_one_line() {
 #[test]
 fn sigint_during_the_render_stage_stops_it_and_writes_nothing() {
     // A quick solve (200 elements) and a long ray-traced render (a 256-ray final gather per
-    // pixel): the signal at 3 s falls in the render, which used to ignore it and report
-    // success.
+    // pixel): the signal comes as the render stage begins; the render used to ignore it and
+    // report success.
     let dir = scratch("sigint-render");
     let cmd = render_in(
         &dir,
@@ -313,7 +384,7 @@ fn sigint_during_the_render_stage_stops_it_and_writes_nothing() {
             "256",
         ],
     );
-    let out = interrupted_after_3_s(cmd);
+    let out = interrupted_when(cmd, |line| progress_of(line, "render", 0));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{stderr}");
     assert!(
@@ -335,7 +406,7 @@ fn an_interrupted_run_keeps_existing_outputs_unless_asked() {
         if partial {
             cmd.arg("--write-partial");
         }
-        let out = interrupted_after_3_s(cmd);
+        let out = interrupted_in_the_solve(cmd);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(130), "{stderr}");
         let png = std::fs::read(dir.join("out.png")).expect("image");
@@ -352,11 +423,12 @@ fn an_interrupted_run_keeps_existing_outputs_unless_asked() {
 #[test]
 fn sigint_in_the_form_factor_stage_leaves_a_checkpoint_that_resumes_to_the_same_answer() {
     // The form factors are ~95 % of a Gauss-Seidel run (6 s here, meshing 0.05 s): the signal
-    // at 2 s falls among them. The checkpoint keeps the rows computed so far; resumed, the
-    // run computes the rest and ends with the uninterrupted run's answer, bit for bit.
-    let flags = ["--elements", "2500", "-q"];
-    resume_after_sigint("sigint-form-factors", &flags, 2, |dir, latency| {
-        assert!(latency < Duration::from_secs(2), "{latency:?}");
+    // comes once the first rows are done. The checkpoint keeps the rows computed so far;
+    // resumed, the run computes the rest and ends with the uninterrupted run's answer, bit for
+    // bit. (That the stage stops at its next chunk of rows: `checkpoint::tests`.)
+    let flags = ["--elements", "2500"];
+    let first_rows = |line: &str| progress_of(line, "form factors", 1);
+    resume_after_sigint("sigint-form-factors", &flags, first_rows, |dir| {
         let cut: serde_json::Value =
             serde_json::from_slice(&std::fs::read(dir.join("cut.json")).expect("stats"))
                 .expect("json");
@@ -367,8 +439,10 @@ fn sigint_in_the_form_factor_stage_leaves_a_checkpoint_that_resumes_to_the_same_
 
 #[test]
 fn an_interrupted_hierarchical_solve_resumes_to_the_same_answer() {
-    // ε = 3·10⁻⁶ on the Cornell box: 10 s, 7 refine-and-solve passes; the signal at 3 s comes
-    // after the first passes, each of which leaves a checkpoint (--checkpoint-every 0).
+    // ε = 3·10⁻⁶ on the Cornell box: 10 s, 7 refine-and-solve passes, each of which leaves a
+    // checkpoint (--checkpoint-every 0). A pass refines, gathers, then saves; the next pass's
+    // first line (`hierarchical (pass 2/7, refining): ...`) comes after that save, so the
+    // signal, sent on it, finds the first pass's checkpoint on disk.
     let flags = [
         "--solver",
         "hierarchical",
@@ -376,31 +450,40 @@ fn an_interrupted_hierarchical_solve_resumes_to_the_same_answer() {
         "3e-6",
         "--checkpoint-every",
         "0.000001",
-        "-q",
     ];
-    resume_after_sigint("sigint-hierarchical-resume", &flags, 3, |_, _| {});
+    let second_pass = |line: &str| line.starts_with("hierarchical (pass 2/");
+    resume_after_sigint("sigint-hierarchical-resume", &flags, second_pass, |_| {});
 }
 
 /// Solves the Cornell box with `flags` whole (`full.json`), then again with a checkpoint and
-/// SIGINT after `seconds` (`cut.json`, exit status 130, then `check(dir, latency)`), then
-/// resumed from that checkpoint: the resumed run must give the whole run's answer.
+/// SIGINT once a stderr line satisfies `ready` (`cut.json`, exit status 130, then
+/// `check(dir)`), then resumed from that checkpoint: the resumed run must give the whole
+/// run's answer.
 fn resume_after_sigint(
     name: &str,
     flags: &[&str],
-    seconds: u64,
-    check: impl FnOnce(&Path, Duration),
+    ready: impl Fn(&str) -> bool,
+    check: impl FnOnce(&Path),
 ) {
     let dir = scratch(name);
     let solve = |extra: &[&str], stats: &str| cornell_solve(&dir, flags, extra, stats);
     let state = dir.join("state.ckpt");
     let state = state.to_str().expect("utf-8 path");
-    let full = solve(&[], "full.json").output().expect("runs");
+    let full = solve(&["-q"], "full.json").output().expect("runs");
     assert!(full.status.success());
-    let cut = solve(&["--checkpoint", state], "cut.json");
-    let (out, latency) = interrupted_after(cut, Duration::from_secs(seconds));
-    assert_eq!(out.status.code(), Some(130));
-    check(&dir, latency);
-    let resumed = solve(&["--resume", state], "resumed.json")
+    let cut = solve(
+        &["--checkpoint", state, "--progress-every", "0"],
+        "cut.json",
+    );
+    let out = interrupted_when(cut, ready);
+    assert_eq!(
+        out.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    check(&dir);
+    let resumed = solve(&["--resume", state, "-q"], "resumed.json")
         .output()
         .expect("runs");
     assert_resumed_like_full(&dir, &resumed);
@@ -409,19 +492,19 @@ fn resume_after_sigint(
 
 #[test]
 fn sigint_while_meshing_stops_at_once_and_writes_nothing() {
-    // `solids` spends ~2 s in contact and shadow refinement (0.2 s loading first); the
-    // refinements read the flag before each element.
+    // `solids` spends ~2 s in contact and shadow refinement; the refinements read the flag
+    // before each element (`mesh::tests`). The signal comes as the meshing stage begins.
     let dir = scratch("sigint-meshing");
     let mut cmd = radiosity();
     cmd.args(["render", "solids", "-o"])
         .arg(dir.join("out.png"))
         .arg("--stats")
         .arg(dir.join("stats.json"))
+        .args(["--progress-every", "0"])
         .stderr(Stdio::piped());
-    let (out, latency) = interrupted_after(cmd, Duration::from_millis(700));
+    let out = interrupted_when(cmd, |line| progress_of(line, "meshing", 0));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{stderr}");
-    assert!(latency < Duration::from_secs(1), "{latency:?}");
     assert_eq!(
         stderr.lines().last(),
         Some("interrupted while meshing: wrote nothing"),

@@ -9,7 +9,7 @@ use std::time::Instant;
 use crate::accel::Bvh;
 use crate::formfactor::{self, Geometry};
 use crate::mesh::{display, LitMesh, Mesh, Subdivision};
-use crate::progress::Progress;
+use crate::progress::{Progress, Work};
 use crate::render::raytrace::evaluate::display_refinement;
 use crate::render::{self, local, raytrace, Image, Mode, RasterSettings, Watch};
 use crate::scene::Camera;
@@ -142,13 +142,18 @@ pub fn solve_controlled(
         ),
         plan::Choice::Subdivided { .. } => (settings.subdivision, asked),
     };
-    progress.start("meshing", 3);
+    // The meshing stage reports its passes as phases (Mesh::build_unless), then the BVH.
+    progress.start("meshing", Work::open_ended("elements"));
     let stop = || control.stopped();
-    let mesh = Mesh::build_unless(&scene, subdivision, settings.discontinuity, &stop)
-        .ok_or(PipelineError::Interrupted)?;
-    progress.advance(1);
+    let Some(mesh) =
+        Mesh::build_unless(&scene, subdivision, settings.discontinuity, &stop, progress)
+    else {
+        progress.cut_short();
+        return Err(PipelineError::Interrupted);
+    };
+    progress.phase("bvh", Work::of(mesh.triangles.len() as u64, "triangles"));
     let bvh = Bvh::build(&mesh.triangles);
-    progress.advance(1);
+    progress.advance(mesh.triangles.len() as u64);
     let counted = mesh.element_count() as f64;
     let (method, sources) = match plan::plan(&problem(requested, counted, true)) {
         plan::Choice::Hierarchical => (solve::Method::Hierarchical, mesh.elements.clone()),
@@ -158,7 +163,8 @@ pub fn solve_controlled(
             reach,
         } => (method, mesh.sources(sources, reach)),
     };
-    progress.advance(1);
+    progress.tally(mesh.patches.len() as u64, "patches");
+    progress.tally(counted as u64, "elements");
     progress.finish();
     timings.mesh = start.elapsed().as_secs_f64();
 

@@ -4,7 +4,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use radiosity::formfactor::{self, Geometry};
 use radiosity::mesh::Subdivision;
-use radiosity::progress::{Progress, Silent};
+use radiosity::progress::{Progress, Silent, Work};
 use radiosity::scene::builtin;
 use radiosity::solve::{self, matrix::Matrix, Method, Settings, Solution, SolveError};
 use radiosity::testing::{self, Prepared};
@@ -193,9 +193,10 @@ struct Count {
 }
 
 impl Progress for Count {
-    fn start(&self, stage: &str, total: u64) {
+    fn start(&self, stage: &str, work: Work) {
         if stage == "form factors" {
-            self.total.store(total, Ordering::Relaxed);
+            assert_eq!(work.unit, "rows");
+            self.total.store(work.total, Ordering::Relaxed);
         }
     }
     fn advance(&self, n: u64) {

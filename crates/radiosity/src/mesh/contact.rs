@@ -36,8 +36,10 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::ELEMENT_BATCH;
 use super::{Mesh, Node, MAX_LEVEL};
 use crate::accel::{Aabb, BoxTree};
+use crate::progress::{Batched, Progress};
 
 /// Extra quadtree levels for elements that a contact line crosses (each level halves the
 /// straddling strip's width).
@@ -68,8 +70,8 @@ impl Mesh {
     /// Splits every element that another polygon's triangle crosses (see the module docs), and
     /// its crossed children, down to [`CONTACT_LEVELS`] more levels ([`COVER_LEVELS`] under a
     /// hovering outline; never below [`MAX_LEVEL`]). Gives up, leaving the mesh valid but
-    /// unfinished, once `stop` returns true.
-    pub fn refine_contacts(&mut self, stop: &(dyn Fn() -> bool + Sync)) {
+    /// unfinished, once `stop` returns true. Reports the elements tested to `progress`.
+    pub fn refine_contacts(&mut self, stop: &(dyn Fn() -> bool + Sync), progress: &dyn Progress) {
         if self.triangles.is_empty() {
             return;
         }
@@ -88,11 +90,13 @@ impl Mesh {
         }
         // Leaves to test, with the levels already added above them.
         let mut candidates: Vec<(u32, u8)> = self.elements.iter().map(|&n| (n, 0)).collect();
+        let tested = Batched::new(progress, ELEMENT_BATCH);
         while !candidates.is_empty() {
             let split: Vec<(u32, u8)> = candidates
                 .par_iter()
                 .copied()
                 .filter(|&(n, done)| {
+                    tested.one();
                     self.nodes[n as usize].level < MAX_LEVEL
                         && !stop()
                         && done < self.touched(&reaches, cap, &lights, n, done)

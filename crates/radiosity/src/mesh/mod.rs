@@ -40,8 +40,13 @@ pub use patch::Patch;
 pub use shadow::SHADOW_LEVELS;
 
 use crate::accel::{Aabb, Bvh};
+use crate::progress::{Progress, Silent, Work};
 use crate::Scene;
 pub use budget::DARK_EMITTER_COARSENING;
+
+/// Elements per progress report in the meshing passes ([`Batched`](crate::progress::Batched)): a pass of 10⁵–10⁶
+/// elements reports a few thousand times.
+const ELEMENT_BATCH: u64 = 256;
 
 /// How finely to subdivide patches into elements.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -103,23 +108,28 @@ impl Mesh {
     /// Splits every polygon of `scene` into patches and subdivides them uniformly.
     #[must_use]
     pub fn build(scene: &Scene, subdivision: Subdivision) -> Self {
-        Self::build_unless(scene, subdivision, false, &|| false).unwrap_or_else(|| unreachable!())
+        Self::build_unless(scene, subdivision, false, &|| false, &Silent)
+            .unwrap_or_else(|| unreachable!())
     }
 
     /// [`Mesh::build`], with the outlines of sharp shadows cut into the root faces when
     /// `discontinuity` is set (discontinuity meshing, [`discontinuity`]), abandoned (`None`)
-    /// once `stop` returns true: the contact and shadow refinements, which take seconds on
-    /// large scenes, ask it before each element.
+    /// once `stop` returns true: the contact, shadow and near-field passes, which take
+    /// seconds to minutes on large scenes, ask it before each element. Each pass is reported
+    /// to `progress` as a [`Progress::phase`] of the current stage (`subdivision` in patches,
+    /// then `contacts`, `shadows` and `near field` in elements tested).
     #[must_use]
     pub fn build_unless(
         scene: &Scene,
         subdivision: Subdivision,
         discontinuity: bool,
         stop: &(dyn Fn() -> bool + Sync),
+        progress: &dyn Progress,
     ) -> Option<Self> {
         let patches = patch::patches(scene, discontinuity);
         let targets = budget::patch_targets(&patches, subdivision);
         let mut mesh = Mesh::default();
+        progress.phase("subdivision", Work::of(patches.len() as u64, "patches"));
         for (index, ((patch, roots), target)) in patches.into_iter().zip(targets).enumerate() {
             let first = mesh.nodes.len() as u32;
             mesh.nodes.extend(
@@ -133,6 +143,7 @@ impl Mesh {
                 mesh.grow(r, level);
             }
             mesh.patches.push(patch);
+            progress.advance(1);
         }
         // What rays hit: the front patches' root faces, so each polygon once and exactly the
         // planar pieces the elements lie on.
@@ -151,12 +162,19 @@ impl Mesh {
             }
         }
         let bvh = Bvh::build(&mesh.triangles);
-        mesh.refine_contacts(stop);
-        mesh.refine_shadows(&bvh, stop);
+        progress.phase("contacts", Work::open_ended("elements"));
+        mesh.refine_contacts(stop, progress);
+        progress.phase("shadows", Work::open_ended("elements"));
+        mesh.refine_shadows(&bvh, stop, progress);
         if stop() {
             return None;
         }
-        mesh.mark_near_field(&bvh);
+        let elements = Work::of(mesh.elements.len() as u64, "elements");
+        progress.phase("near field", elements);
+        mesh.mark_near_field(&bvh, stop, progress);
+        if stop() {
+            return None;
+        }
         debug_assert_eq!(mesh.validate(), Ok(()));
         Some(mesh)
     }
@@ -679,5 +697,38 @@ mod tests {
             .min();
         // Whatever still straddles a contact line is deeper than the roots.
         assert!(shallowest.is_none_or(|l| l > 0), "{shallowest:?}");
+    }
+
+    /// Ctrl-C must not wait for the contact and shadow refinements (seconds on large scenes):
+    /// they ask their stop question for every element they test, and a meshing told to stop
+    /// gives up. Counting the questions states this without a clock.
+    #[test]
+    fn meshing_asks_whether_to_stop_for_every_element_and_gives_up_when_told() {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        // Boxes standing on a floor under a light: both refinements have work.
+        let scene = crate::scene::builtin::load("cornell")
+            .expect("built in")
+            .expect("loads");
+        let subdivision = Subdivision::Elements(300);
+        let asked = AtomicUsize::new(0);
+        let counting = || {
+            asked.fetch_add(1, Ordering::SeqCst);
+            false
+        };
+        let mesh =
+            Mesh::build_unless(&scene, subdivision, false, &counting, &Silent).expect("not told");
+        assert_eq!(
+            mesh.element_count(),
+            Mesh::build(&scene, subdivision).element_count()
+        );
+        // Contact refinement asks for each uniform element, shadow refinement for each element
+        // contact refinement left (at least as many).
+        let (_, uniform) = Mesh::plan(&scene, subdivision, false);
+        let asked = asked.load(Ordering::SeqCst);
+        assert!(
+            asked as f64 >= 2.0 * uniform,
+            "{asked} questions, {uniform} elements"
+        );
+        assert!(Mesh::build_unless(&scene, subdivision, false, &|| true, &Silent).is_none());
     }
 }

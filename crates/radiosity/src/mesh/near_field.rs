@@ -16,7 +16,9 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::Mesh;
+use super::ELEMENT_BATCH;
 use crate::accel::Bvh;
+use crate::progress::{Batched, Progress};
 
 /// How much finer the receiver grid of a near-field element is, per side.
 pub const NEAR_REFINEMENT: u32 = 2;
@@ -29,13 +31,28 @@ const REACH: f32 = 0.5;
 
 impl Mesh {
     /// Marks every element that has a triangle of another polygon within [`REACH`] diameters
-    /// of its centroid, with a corner in front of its plane.
-    pub(super) fn mark_near_field(&mut self, bvh: &Bvh) {
+    /// of its centroid, with a corner in front of its plane. Reports the elements tested to
+    /// `progress`; once `stop` returns true the rest are left unmarked (the caller
+    /// then abandons the mesh).
+    pub(super) fn mark_near_field(
+        &mut self,
+        bvh: &Bvh,
+        stop: &(dyn Fn() -> bool + Sync),
+        progress: &dyn Progress,
+    ) {
+        let tested = Batched::new(progress, ELEMENT_BATCH);
         let near: Vec<bool> = self
             .elements
             .par_iter()
-            .map(|&n| self.has_near_source(bvh, n))
+            .map(|&n| {
+                if stop() {
+                    return false;
+                }
+                tested.one();
+                self.has_near_source(bvh, n)
+            })
             .collect();
+        drop(tested);
         for (k, near) in near.into_iter().enumerate() {
             let n = self.elements[k] as usize;
             self.nodes[n].near = near;

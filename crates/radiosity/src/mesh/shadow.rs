@@ -26,8 +26,10 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::ELEMENT_BATCH;
 use super::{Face, Mesh, MAX_LEVEL};
 use crate::accel::{Bvh, Ray};
+use crate::progress::{Batched, Progress};
 use crate::Rgb;
 
 /// Extra quadtree levels for elements that a shadow boundary crosses (each level halves the
@@ -75,8 +77,13 @@ impl Mesh {
     /// Splits every element whose direct light jumps across it (see the module docs), and its
     /// crossed children, down to [`SHADOW_LEVELS`] below its patch's uniform level (never below
     /// [`MAX_LEVEL`]). Gives up, leaving the mesh valid but unfinished, once `stop` returns
-    /// true.
-    pub(super) fn refine_shadows(&mut self, bvh: &Bvh, stop: &(dyn Fn() -> bool + Sync)) {
+    /// true. Reports the elements measured to `progress`.
+    pub(super) fn refine_shadows(
+        &mut self,
+        bvh: &Bvh,
+        stop: &(dyn Fn() -> bool + Sync),
+        progress: &dyn Progress,
+    ) {
         let per_element = self.elements.len().max(1) * (GRID * GRID) as usize;
         let most = (RAY_BUDGET / per_element).clamp(MIN_EMITTER_SAMPLES, EMITTER_SAMPLES);
         let samples = self.emitter_samples(most);
@@ -84,11 +91,13 @@ impl Mesh {
             return;
         }
         let lift = bvh.lift();
+        let measured = Batched::new(progress, ELEMENT_BATCH);
         // A stopped run measures nothing more: no jump, no split.
         let direct = |mesh: &Mesh, n: u32| {
             if stop() {
                 (0.0, 0.0)
             } else {
+                measured.one();
                 mesh.direct_spread(bvh, &samples, lift, n)
             }
         };

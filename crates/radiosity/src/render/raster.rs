@@ -43,6 +43,7 @@ use super::camera::Projection;
 use super::image::Image;
 use super::watch::Watch;
 use crate::mesh::LitMesh;
+use crate::progress::Work;
 use crate::scene::Camera;
 use crate::Rgb;
 
@@ -123,7 +124,9 @@ pub fn render_watched(
     }
     let bins = setup.bins();
     let band_len = setup.width as usize * BAND_ROWS as usize;
-    watch.progress.start("render", bins.len() as u64);
+    watch
+        .progress
+        .start("render", Work::of(bins.len() as u64, "bands"));
     image
         .pixels
         .par_chunks_mut(band_len)
@@ -135,7 +138,11 @@ pub fn render_watched(
                 watch.progress.advance(1);
             }
         });
-    watch.progress.finish();
+    if !watch.stopped() {
+        let pixels = u64::from(setup.width) * u64::from(setup.height);
+        watch.progress.tally(pixels, "pixels");
+    }
+    watch.progress.end(watch.stopped());
     (!watch.stopped()).then_some(image)
 }
 
@@ -592,13 +599,18 @@ mod tests {
     fn a_watched_render_reports_every_band_and_stops_when_told() {
         use crate::progress::{Progress, Silent};
         use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-        struct Count(AtomicU64);
+        struct Count(AtomicU64, AtomicU64);
         impl Progress for Count {
-            fn start(&self, stage: &str, total: u64) {
-                assert_eq!((stage, total), ("render", 4), "32 rows in bands of 8");
+            fn start(&self, stage: &str, work: Work) {
+                let bands = ("render", Work::of(4, "bands"));
+                assert_eq!((stage, work), bands, "32 rows in bands of 8");
             }
             fn advance(&self, n: u64) {
                 self.0.fetch_add(n, Ordering::Relaxed);
+            }
+            fn tally(&self, count: u64, what: &'static str) {
+                assert_eq!(what, "pixels");
+                self.1.fetch_add(count, Ordering::Relaxed);
             }
             fn finish(&self) {}
         }
@@ -608,13 +620,14 @@ mod tests {
             height: 32,
             samples_per_pixel: 4,
         };
-        let count = Count(AtomicU64::new(0));
+        let count = Count(AtomicU64::new(0), AtomicU64::new(0));
         let watch = Watch {
             progress: &count,
             stop: None,
         };
         let watched = render_watched(&lit, &axis_camera(), &settings, &watch).expect("image");
         assert_eq!(count.0.load(Ordering::Relaxed), 4);
+        assert_eq!(count.1.load(Ordering::Relaxed), 32 * 32);
         assert_eq!(watched, render(&lit, &axis_camera(), &settings));
         let stop = AtomicBool::new(true);
         let watch = Watch {

@@ -8,7 +8,7 @@ use super::checkpoint::{Iterate, Session};
 use super::matrix::Matrix;
 use super::solver::Job;
 use super::{Run, Settings, Solution, SolveError, System};
-use crate::progress::Progress;
+use crate::progress::{Progress, Work};
 
 /// A gathering solver's iterations: from the system, the complete matrix and the session to
 /// the last iterate.
@@ -51,13 +51,15 @@ pub(super) fn solve(job: Job, solution: &mut Solution, sweeps: Sweeps) -> Result
     }
     solution.links = matrix.links();
     let start = Instant::now();
-    progress.start("solve", 0);
+    progress.start("solve", Work::open_ended("iterations"));
     system.bury(g, &matrix);
     if ff.rows_tile_the_hemisphere() {
         system.balance(&matrix);
     }
     let run = sweeps(&system, &matrix, settings, &mut session, progress);
-    progress.finish();
+    progress.tally(run.iterations as u64, "iterations");
+    progress.tally(solution.links, "links");
+    progress.end(run.interrupted);
     solution.irradiance = system.irradiance(&matrix, &run.radiosity);
     // The gather is linear in B but for the buried emission it takes off every source's mean,
     // which is the same for B and for E alone: it cancels in the difference.

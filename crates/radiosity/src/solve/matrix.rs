@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use super::near_sources::{self, Piece, Scratch};
 use super::SolveError;
 use crate::formfactor::{FormFactors, Geometry};
-use crate::progress::Progress;
+use crate::progress::{Progress, Work};
 
 /// Rows per parallel task (and per progress report, and per unit of a partial matrix).
 pub(super) const CHUNK_ROWS: usize = 16;
@@ -160,7 +160,7 @@ impl Matrix {
         let (rows, sources) = (g.mesh.element_count(), g.sources.len());
         let mut data = Self::zeros(rows, sources, limit)?;
         let prior = prior.filter(|p| p.shape() == (rows, sources));
-        progress.start("form factors", rows as u64);
+        progress.start("form factors", Work::of(rows as u64, "rows"));
         let chunks: Vec<Option<NearChunk>> = if sources > 0 {
             data.par_chunks_mut(CHUNK_ROWS * sources)
                 .enumerate()
@@ -197,7 +197,8 @@ impl Matrix {
                 .map(|k| Some(NearChunk::empty(rows, k)))
                 .collect()
         };
-        progress.finish();
+        // A chunk is missing only when the stop flag skipped it.
+        progress.end(chunks.iter().any(Option::is_none));
         let done = chunks.iter().map(Option::is_some).collect();
         let near = Near {
             chunks: chunks

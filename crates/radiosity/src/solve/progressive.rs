@@ -48,7 +48,7 @@ use super::near_sources::{self, Piece, Scratch};
 use super::solver::{Job, Solver};
 use super::{l1, Settings, Solution, SolveError, System};
 use crate::formfactor::{FormFactors, Geometry};
-use crate::progress::Progress;
+use crate::progress::{Progress, Work};
 use crate::Rgb;
 
 /// What a progressive solve returns.
@@ -82,9 +82,11 @@ impl Solver for Progressive {
             ..
         } = job;
         let start = Instant::now();
-        progress.start("solve", 0);
+        progress.start("solve", Work::open_ended("iterations"));
         let run = run(&system, g, ff, settings, &mut session, progress);
-        progress.finish();
+        progress.tally(run.iterations as u64, "iterations");
+        progress.tally(run.links, "links");
+        progress.end(run.interrupted);
         solution.radiosity = run.radiosity;
         solution.irradiance = run.irradiance;
         solution.iterations = run.iterations;

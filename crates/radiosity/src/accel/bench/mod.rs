@@ -309,7 +309,11 @@ mod tests {
         assert_eq!((set.occluded, set.hits, set.rays), (300, 300, 300));
         assert_eq!(set.rates.len(), 2);
         assert!(set.rates[0].occlusion_rays_per_second > 0.0);
-        assert!(report.builds.iter().all(|b| b.seconds > 0.0));
+        // A build time per thread count; its size is the machine's, not the test's concern.
+        assert!(report
+            .builds
+            .iter()
+            .all(|b| b.seconds.is_finite() && b.seconds >= 0.0));
         // At least the triangles themselves (36 bytes each) and their indices.
         assert!(report.bytes_per_triangle >= 40.0);
     }

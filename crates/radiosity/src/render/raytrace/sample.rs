@@ -17,6 +17,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::hash::{mix, unit_f32};
+use crate::progress::Work;
 use crate::render::{Image, Watch};
 use crate::Rgb;
 
@@ -151,7 +152,9 @@ where
 {
     let mut image = Image::new(width, height);
     let (tiles_x, tiles_y) = (width.div_ceil(TILE), height.div_ceil(TILE));
-    watch.progress.start("render", u64::from(tiles_x * tiles_y));
+    watch
+        .progress
+        .start("render", Work::of(u64::from(tiles_x * tiles_y), "tiles"));
     let tiles: Vec<(u32, Vec<Rgb>)> = (0..tiles_x * tiles_y)
         .into_par_iter()
         .map(|t| {
@@ -164,7 +167,12 @@ where
             (t, out)
         })
         .collect();
-    watch.progress.finish();
+    if !watch.stopped() {
+        watch
+            .progress
+            .tally(u64::from(width) * u64::from(height), "pixels");
+    }
+    watch.progress.end(watch.stopped());
     if watch.stopped() {
         return None;
     }
@@ -199,23 +207,28 @@ mod tests {
     fn a_set_stop_flag_gives_no_image_and_every_tile_is_reported() {
         use crate::progress::{Progress, Silent};
         use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-        struct Count(AtomicU64);
+        use std::sync::Mutex;
+        struct Count(AtomicU64, Mutex<Vec<(u64, &'static str)>>);
         impl Progress for Count {
-            fn start(&self, stage: &str, total: u64) {
-                assert_eq!((stage, total), ("render", 6));
+            fn start(&self, stage: &str, work: Work) {
+                assert_eq!((stage, work), ("render", Work::of(6, "tiles")));
             }
             fn advance(&self, n: u64) {
                 self.0.fetch_add(n, Ordering::Relaxed);
             }
+            fn tally(&self, count: u64, what: &'static str) {
+                self.1.lock().expect("lock").push((count, what));
+            }
             fn finish(&self) {}
         }
-        let count = Count(AtomicU64::new(0));
+        let count = Count(AtomicU64::new(0), Mutex::new(Vec::new()));
         let watch = Watch {
             progress: &count,
             stop: None,
         };
         assert!(render_tiles(37, 21, 1, false, &watch, |_, _, _| Rgb::ONE).is_some());
         assert_eq!(count.0.load(Ordering::Relaxed), 6, "3 × 2 tiles of 16²");
+        assert_eq!(*count.1.lock().expect("lock"), [(37 * 21, "pixels")]);
         let stop = AtomicBool::new(true);
         let watch = Watch {
             progress: &Silent,

@@ -452,17 +452,36 @@ mod tests {
         }
     }
 
-    /// Sets a stop flag once `at` units of the form-factor stage are done.
+    /// Sets a stop flag once `at` units of the form-factor stage are done (the other stages'
+    /// units, the meshing's elements, do not count).
     struct StopAfter {
         at: u64,
         done: std::sync::atomic::AtomicU64,
         flag: Arc<AtomicBool>,
+        /// Whether the current stage is the form factors.
+        counting: AtomicBool,
+    }
+
+    impl StopAfter {
+        fn new(at: u64, flag: Arc<AtomicBool>) -> Self {
+            Self {
+                at,
+                done: 0.into(),
+                flag,
+                counting: AtomicBool::new(false),
+            }
+        }
     }
 
     impl crate::progress::Progress for StopAfter {
-        fn start(&self, _: &str, _: u64) {}
+        fn start(&self, stage: &str, _: crate::progress::Work) {
+            self.counting
+                .store(stage == "form factors", Ordering::SeqCst);
+        }
         fn advance(&self, n: u64) {
-            if self.done.fetch_add(n, Ordering::SeqCst) + n >= self.at {
+            if self.counting.load(Ordering::SeqCst)
+                && self.done.fetch_add(n, Ordering::SeqCst) + n >= self.at
+            {
                 self.flag.store(true, Ordering::SeqCst);
             }
         }
@@ -480,17 +499,14 @@ mod tests {
             let control = Control {
                 stop: Some(Arc::clone(&flag)),
                 checkpoint: Some(Checkpointing {
-                    every: Duration::from_secs(3600),
+                    // Never by the clock: the one checkpoint is the stop's.
+                    every: Duration::MAX,
                     save: Arc::new(move |cp| sink.lock().expect("lock").push(cp.clone())),
                 }),
                 ..Control::default()
             };
             let scene = builtin::load("cornell").expect("built in").expect("loads");
-            let progress = StopAfter {
-                at: 64,
-                done: 0.into(),
-                flag,
-            };
+            let progress = StopAfter::new(64, flag);
             let stopped = pipeline::solve_controlled(scene, &s, &control, &progress).expect("runs");
             assert!(stopped.solution.interrupted && stopped.solution.iterations == 0);
             let saves = saved.lock().expect("lock").clone();
@@ -526,11 +542,7 @@ mod tests {
             stop: Some(Arc::clone(&flag)),
             ..Control::default()
         };
-        let progress = StopAfter {
-            at: 1,
-            done: 0.into(),
-            flag,
-        };
+        let progress = StopAfter::new(1, flag);
         let scene = builtin::load("cornell").expect("built in").expect("loads");
         let s = settings(Method::GaussSeidel, 1);
         let solved = pipeline::solve_controlled(scene, &s, &control, &progress).expect("solves");

@@ -59,7 +59,7 @@ use super::solver::{Job, Solver};
 use super::{Method, Refined, Sample, Solution, SolveError};
 use crate::accel::Bvh;
 use crate::mesh::{Mesh, Node};
-use crate::progress::Progress;
+use crate::progress::{Batched, Progress, Work};
 use crate::stats::HierarchyStats;
 use crate::Rgb;
 use cluster::{Cluster, Clusters};
@@ -76,6 +76,10 @@ pub const FINAL_PASSES: u32 = 3;
 
 /// Receiver splits by the display criterion.
 pub const DISPLAY_PASSES: u32 = 1;
+
+/// Links examined per progress report of a refinement round ([`Batched`]): a round of 10⁶–10⁷
+/// links reports a few thousand times.
+const LINK_BATCH: u64 = 4096;
 
 /// The display criterion: a sibling difference above this fraction of the largest element
 /// radiosity (largest channel) splits an element's links on the receiver side.
@@ -296,7 +300,7 @@ pub fn run(
         last = Some(it);
     }
     let passes = STAGES + FINAL_PASSES + DISPLAY_PASSES;
-    progress.start("hierarchical", u64::from(passes) + 1);
+    progress.start("hierarchical", Work::of(u64::from(passes) + 1, "passes"));
     progress.advance(u64::from(done));
     'passes: for pass in done..passes {
         let stage = pass.min(STAGES - 1);
@@ -307,8 +311,14 @@ pub fn run(
         } else {
             Vec::new()
         };
-        // Refine until no leaf needs splitting.
+        // Refine until no leaf needs splitting, reporting the links examined (the stop
+        // question is asked before each).
         let start = Instant::now();
+        progress.phase(
+            &format!("pass {}/{passes}, refining", pass + 1),
+            Work::open_ended("links"),
+        );
+        let examined = Batched::new(progress, LINK_BATCH);
         let mut first = pass == 0;
         let mut refined = 0;
         loop {
@@ -326,7 +336,10 @@ pub fn run(
                 cluster_b: &cluster_b,
             };
             let view = View::new(mesh, &clusters, bvh);
-            let stop = || control.stopped();
+            let stop = || {
+                examined.one();
+                control.stopped()
+            };
             let round = if first {
                 refine::start(&view, &oracle, &stop)
             } else {
@@ -362,9 +375,13 @@ pub fn run(
         links.sort_unstable_by_key(|l| (l.receiver, l.source));
         state.bury(mesh, &clusters, &links);
         out.refine_seconds += start.elapsed().as_secs_f64();
-        progress.advance(1);
+        drop(examined);
         // Solve from the current radiosity, unless the links did not change.
         let start = Instant::now();
+        progress.phase(
+            &format!("pass {}/{passes}, gathering", pass + 1),
+            Work::open_ended("iterations"),
+        );
         while (pass == 0 || refined > 0) && out.iterations < settings.max_iterations {
             if control.stopped() {
                 out.interrupted = true;
@@ -372,6 +389,7 @@ pub fn run(
                 break 'passes;
             }
             let change = state.iterate(mesh, &clusters, &links);
+            progress.advance(1);
             out.record(change / emitted, clock + began.elapsed().as_secs_f64());
             if out.residual < settings.tolerance {
                 break;
@@ -409,9 +427,12 @@ pub fn run(
     } else {
         let seconds = || clock + began.elapsed().as_secs_f64();
         let problem = (mesh as &Mesh, bvh, &clusters, links.as_slice());
-        leaf_solve(
+        progress.phase("leaf solve", Work::of(1, "solves"));
+        let rows = leaf_solve(
             problem, &mut state, emitted, settings, control, &seconds, &mut out,
-        )
+        );
+        progress.advance(1);
+        rows
     };
     if let Some(rows) = &rows {
         peak = peak.max(memory(mesh, &clusters, links.len()) + rows.bytes());
@@ -419,8 +440,10 @@ pub fn run(
     if let Some(it) = last.filter(|_| out.interrupted) {
         session.after_iteration(true, || it);
     }
-    progress.advance(1);
-    progress.finish();
+    progress.tally(mesh.element_count() as u64, "elements");
+    progress.tally(links.len() as u64, "links");
+    progress.tally(out.iterations as u64, "iterations");
+    progress.end(out.interrupted);
     out.irradiance = state.element_irradiance(mesh);
     let direct = state.emitted_irradiance(mesh, &clusters, &links, rows.as_ref());
     out.reflected_irradiance = out

@@ -322,3 +322,58 @@ impl Refiner<'_, '_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    use super::super::cluster::Clusters;
+    use super::super::push_pull::State;
+    use super::super::{brightness, spread};
+    use super::*;
+    use crate::accel::Bvh;
+    use crate::mesh::Subdivision;
+
+    /// Ctrl-C must not wait for a refinement round (minutes on large scenes at small ε): a
+    /// round asks its stop question before every link, and once told to stop does no more.
+    /// Counting the questions states this without a clock.
+    #[test]
+    fn a_round_asks_whether_to_stop_before_each_link_and_skips_the_rest_when_told() {
+        // The closed cube glowing on every face, as the first pass sees it (B = E), root
+        // faces only, as the hierarchical solver meshes it.
+        let scene = crate::testing::closed_cube(0.5, [1.0; 6]);
+        let mesh = Mesh::build(&scene, Subdivision::MaxArea(f64::INFINITY));
+        let bvh = Bvh::build(&mesh.triangles);
+        let clusters = Clusters::build(&mesh);
+        let state = State::new(&mesh, &clusters, &bvh);
+        let (node_b, cluster_b) = brightness(&state);
+        let node_spread = spread(&mesh, &node_b);
+        // A link may move a thousandth of the cube's emitted power (6 m² at B = 1): the
+        // face-to-face links are far coarser than that.
+        let oracle = Oracle {
+            threshold: 1e-3 * mesh.total_area(),
+            min_area: mesh.total_area() * 1e-6,
+            node_b: &node_b,
+            node_spread: &node_spread,
+            cluster_b: &cluster_b,
+        };
+        let view = View::new(&mesh, &clusters, &bvh);
+        let asked = AtomicUsize::new(0);
+        let counting = || {
+            asked.fetch_add(1, Ordering::SeqCst);
+            false
+        };
+        let first = start(&view, &oracle, &counting);
+        assert!(!first.links.is_empty() && !first.splits.is_empty());
+        assert!(asked.load(Ordering::SeqCst) >= first.links.len());
+        asked.store(0, Ordering::SeqCst);
+        let next = round(&view, &oracle, &first.links, &[], &counting);
+        assert!(!next.links.is_empty());
+        assert!(asked.load(Ordering::SeqCst) >= first.links.len());
+        // Told to stop, neither makes a link nor asks for a split.
+        let stopped = start(&view, &oracle, &|| true);
+        assert!(stopped.links.is_empty() && stopped.splits.is_empty());
+        let stopped = round(&view, &oracle, &first.links, &[], &|| true);
+        assert!(stopped.links.is_empty() && stopped.splits.is_empty());
+    }
+}

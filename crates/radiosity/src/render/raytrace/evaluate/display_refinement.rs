@@ -48,6 +48,7 @@ use super::super::world::World;
 use super::{prepare, Evaluation};
 use crate::color::luminance;
 use crate::mesh::{LitMesh, Mesh};
+use crate::progress::Work;
 use crate::render::Watch;
 use crate::solve::Solution;
 use crate::{Rgb, Scene};
@@ -222,14 +223,20 @@ impl Refiner<'_> {
                 at,
             });
         }
+        // Reported as levels: the first evaluates the vertices, each further one the
+        // midpoints of the open edges.
+        let levels = Work::of(u64::from(settings.depth) + 1, "levels");
+        watch.progress.start("display", levels);
         let evaluated: Vec<Option<Rgb>> = first
             .par_iter()
             .enumerate()
             .map(|(v, f)| f.map(|(t, at)| self.value_unless(positions[v], t, at, watch)))
             .collect();
         if watch.stopped() {
+            watch.progress.cut_short();
             return None;
         }
+        watch.progress.advance(1);
         for (v, b) in evaluated.into_iter().enumerate() {
             if let Some(b) = b {
                 values[v] = b;
@@ -240,14 +247,13 @@ impl Refiner<'_> {
         let mut decided: HashMap<(u32, u32), Option<u32>> = HashMap::new();
         let (mut open, mut done): (Vec<Piece>, Vec<Piece>) =
             pieces.into_iter().partition(|p| diffuse(p.triangle));
-        watch.progress.start("display", u64::from(settings.depth));
         for _ in 0..settings.depth {
-            watch.progress.advance(1);
             if open.is_empty() {
+                watch.progress.advance(1);
                 continue;
             }
             if watch.stopped() {
-                watch.progress.finish();
+                watch.progress.cut_short();
                 return None;
             }
             // The edges of the open pieces not decided yet, in a fixed order.
@@ -274,7 +280,7 @@ impl Refiner<'_> {
                 .map(|m| self.value_unless(m.point, m.triangle, m.at, watch))
                 .collect();
             if watch.stopped() {
-                watch.progress.finish();
+                watch.progress.cut_short();
                 return None;
             }
             // The failing edges, worst first, within the budget.
@@ -322,9 +328,12 @@ impl Refiner<'_> {
                 }
             }
             open = next;
+            watch.progress.advance(1);
         }
-        watch.progress.finish();
         done.extend(open);
+        watch.progress.tally(positions.len() as u64, "vertices");
+        watch.progress.tally(done.len() as u64, "triangles");
+        watch.progress.finish();
         let lit = LitMesh {
             positions,
             radiosity: values,
