@@ -68,6 +68,15 @@ pub struct Clusters {
     /// Running sums of the areas of `faces`: entry k is the area of the first k, so that a
     /// cluster's faces can be drawn in proportion to their areas ([`Clusters::draw_face`]).
     pub area_before: Vec<f64>,
+    /// For each root-face node id, its index in `faces` ([`u32::MAX`] for other nodes): which
+    /// clusters hold a face is a range test ([`Clusters::holds`]).
+    pub slot: Vec<u32>,
+    /// Root-face node ids of each scene polygon (both sides, every planar piece):
+    /// polygon k's are `polygon_roots[polygon_start[k]..polygon_start[k + 1]]`. A ray's hit
+    /// names a polygon; this finds the root face it lies on.
+    pub polygon_roots: Vec<u32>,
+    /// Start of each polygon's run in `polygon_roots`.
+    pub polygon_start: Vec<u32>,
 }
 
 impl Clusters {
@@ -129,6 +138,23 @@ impl Clusters {
                 Some(*sum)
             }))
             .collect();
+        out.slot = vec![u32::MAX; faces.iter().map(|&f| f as usize + 1).max().unwrap_or(0)];
+        for (k, &f) in out.faces.iter().enumerate() {
+            out.slot[f as usize] = k as u32;
+        }
+        let polygon = |f: u32| mesh.patches[mesh.nodes[f as usize].patch as usize].polygon;
+        let mut by_polygon = faces.clone();
+        by_polygon.sort_by_key(|&f| (polygon(f), f));
+        let polygons = mesh
+            .triangle_polygon
+            .iter()
+            .max()
+            .map_or(0, |&p| p as usize + 1);
+        let polygons = polygons.max(by_polygon.last().map_or(0, |&f| polygon(f) as usize + 1));
+        out.polygon_start = (0..=polygons as u32)
+            .map(|p| by_polygon.partition_point(|&f| polygon(f) < p) as u32)
+            .collect();
+        out.polygon_roots = by_polygon;
         out.tabulate();
         debug_assert_eq!(out.validate(mesh), Ok(()));
         out
@@ -144,6 +170,24 @@ impl Clusters {
         // The first face whose running sum passes the target.
         let k = self.area_before[lo + 1..=hi].partition_point(|&sum| sum <= target);
         self.faces[(lo + k).min(hi - 1)]
+    }
+
+    /// Whether cluster `c` holds the root face `f` (a node id).
+    #[must_use]
+    pub fn holds(&self, c: usize, f: u32) -> bool {
+        self.slot
+            .get(f as usize)
+            .is_some_and(|&k| self.nodes[c].faces.contains(&k))
+    }
+
+    /// The root faces (node ids) of scene polygon `p`.
+    #[must_use]
+    pub fn roots_of(&self, p: u32) -> &[u32] {
+        let p = p as usize;
+        match (self.polygon_start.get(p), self.polygon_start.get(p + 1)) {
+            (Some(&a), Some(&b)) => &self.polygon_roots[a as usize..b as usize],
+            _ => &[],
+        }
     }
 
     /// The projected area P(ω) of cluster `c` toward the unit direction `w` (module docs).

@@ -269,6 +269,13 @@ impl LeafRows {
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Option<Self> {
         let mesh = view.mesh;
+        // A link the cluster kernel cannot resolve has no factor for its elements to take
+        // instead of its own: it is pushed.
+        let rowed: Vec<bool> = rowed
+            .iter()
+            .zip(links)
+            .map(|(&rowed, l)| rowed && view.resolves(l.receiver, l.source))
+            .collect();
         let tree = Tree::new(mesh, view.clusters, links, &rowed);
         // Every link's visibility as its elements take it, whether they cast their own rays,
         // and the factor it gives an element that is its receiver.

@@ -42,7 +42,7 @@ use glam::DVec3;
 
 use super::cluster::{axis_weights, Clusters};
 use super::leaf_rows::LeafRows;
-use super::link::{receiver_groups, End, Handle, Link};
+use super::link::{receiver_groups, resolved, End, Handle, Link};
 use crate::accel::Bvh;
 use crate::formfactor::exposure::open_fraction;
 use crate::mesh::Mesh;
@@ -162,7 +162,7 @@ impl State {
             node_probed: Vec::new(),
             node_open: Vec::new(),
             node_shine: vec![Rgb::ONE; n],
-            cluster_b: Vec::new(),
+            cluster_b: vec![Rgb::ONE; clusters.nodes.len()],
             cluster_n: clusters
                 .nodes
                 .iter()
@@ -357,6 +357,8 @@ impl State {
     /// mean B of the faces that face `out` (module docs), nothing where none does.
     fn shone(&self, clusters: &Clusters, source: Handle, out: DVec3) -> Rgb {
         match source.end() {
+            // An unresolved pair has no direction: the cluster shines its mean.
+            End::Cluster(s) if out == DVec3::ZERO => self.cluster_b[s],
             End::Cluster(s) => {
                 let w = axis_weights(out);
                 toward(clusters, s, &w).map_or(Rgb::ZERO, |den| {
@@ -537,9 +539,12 @@ impl State {
 }
 
 /// The unit direction from the centre of `source` to `receiver`'s, where a cluster is at
-/// either end (zero between two faces, which need no direction).
+/// either end (zero between two faces, which need no direction, and for an unresolved pair,
+/// which has none: [`resolved`]).
 fn direction(mesh: &Mesh, clusters: &Clusters, receiver: Handle, source: Handle) -> DVec3 {
-    if !source.is_cluster() && !receiver.is_cluster() {
+    if !resolved(mesh, clusters, receiver, source)
+        || !(source.is_cluster() || receiver.is_cluster())
+    {
         return DVec3::ZERO;
     }
     let center = |h: Handle| -> DVec3 {

@@ -29,6 +29,10 @@ use crate::mesh::{Mesh, MAX_LEVEL};
 /// ([`Oracle::pushes_unevenly`]).
 pub const PUSH: f64 = 0.1;
 
+/// The fewest pairs of root faces an unresolved pair must stand for to be kept as one link
+/// ([`Refiner::unresolved`]); smaller ones are opened to faces, whose links are exact.
+pub const UNRESOLVED_PAIRS: u64 = 256;
+
 /// The variation test's threshold, as a fraction of the power threshold.
 pub const VARIATION: f64 = 0.125;
 
@@ -275,6 +279,30 @@ impl Refiner<'_, '_> {
         }
     }
 
+    /// A pair the cluster kernel cannot estimate ([`View::resolves`]: overlapping spheres, a
+    /// cluster with itself) kept as one link while even the most it could move,
+    /// B_s·A_r·F_max with F_max = min(1, A_s/A_r) (F ≤ 1, and A_r F_rs = A_s F_sr ≤ A_s),
+    /// stays below the variation threshold. Its factor is estimated by rays
+    /// ([`View::unresolved_factor`]), its spread is F_max, and later passes open it as soon as
+    /// the radiosity they have makes it matter (the module [`super::link`]'s `unresolved`
+    /// says why).
+    fn unresolved(&self, r: Handle, s: Handle) -> Option<Link> {
+        let faces = |h: Handle| match h.end() {
+            End::Cluster(c) => self.view.clusters.nodes[c].faces.len() as u64,
+            End::Node(_) => 1,
+        };
+        if faces(r) * faces(s) < UNRESOLVED_PAIRS {
+            return None;
+        }
+        let most = (self.view.area(s) / self.view.area(r)).min(1.0);
+        let bound = Link::new(r, s, 0.0, most as f32, Sight::Unknown);
+        if !most.is_finite() || self.oracle.too_coarse(self.view, &bound) {
+            return None;
+        }
+        let factor = self.view.unresolved_factor(r, s) as f32;
+        Some(Link::new(r, s, factor, most as f32, Sight::Unknown))
+    }
+
     /// Estimates a new pair and refines it as far as it needs.
     fn pair(&self, r: Handle, s: Handle, sight: Sight, acc: &mut Round) {
         if (self.stop)() {
@@ -283,6 +311,10 @@ impl Refiner<'_, '_> {
         if r == s {
             // A cluster with itself: every pair of its children (a face never lights itself).
             if !r.is_cluster() {
+                return;
+            }
+            if let Some(l) = self.unresolved(r, s) {
+                acc.links.push(l);
                 return;
             }
             let mut children = Vec::with_capacity(4);
@@ -305,6 +337,10 @@ impl Refiner<'_, '_> {
             Estimate::Nothing => {}
             Estimate::Link(l) => self.link(l, Split::AsJudged, acc),
             Estimate::Open => {
+                if let Some(l) = self.unresolved(r, s) {
+                    acc.links.push(l);
+                    return;
+                }
                 // Open the cluster side (the larger sphere when both are clusters).
                 let side = match (r.is_cluster(), s.is_cluster()) {
                     (true, true) => {

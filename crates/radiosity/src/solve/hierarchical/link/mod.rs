@@ -32,6 +32,7 @@
 //! Rays are jittered by a hash of (receiver, source, ray): node ids never change once made, so
 //! a link's value does not depend on the thread count or the order of work.
 
+mod unresolved;
 mod visibility;
 
 use glam::{DVec3, Vec3};
@@ -166,6 +167,44 @@ pub enum Estimate {
     Link(Link),
 }
 
+/// Bounding sphere (centre, radius) of a handle.
+fn sphere(mesh: &Mesh, clusters: &Clusters, h: Handle) -> (Vec3, f32) {
+    match h.end() {
+        End::Cluster(c) => {
+            let c = &clusters.nodes[c];
+            (c.center, c.radius)
+        }
+        End::Node(n) => mesh.nodes[n].sphere(),
+    }
+}
+
+/// Whether the pair (r, s) is *resolved*: two faces always; with a cluster at one end or both,
+/// when the cluster kernel can be trusted for it, which needs bounding spheres that lie apart
+/// (and are not NaN) and no face whose plane cuts the other side's sphere (such a face sees
+/// it partly from behind: a wall next to the cluster of its neighbours, say). An unresolved
+/// pair's link carries a factor estimated by rays ([`View::unresolved_factor`]): its elements
+/// take no factors of their own from it ([`super::leaf_rows`]), and it is gathered with no
+/// direction ([`super::push_pull`]).
+#[must_use]
+pub fn resolved(mesh: &Mesh, clusters: &Clusters, r: Handle, s: Handle) -> bool {
+    if !r.is_cluster() && !s.is_cluster() {
+        return true;
+    }
+    let ((cr, rr), (cs, rs)) = (sphere(mesh, clusters, r), sphere(mesh, clusters, s));
+    let distance = (cs - cr).length();
+    if distance.is_nan() || distance <= rr + rs {
+        return false;
+    }
+    let cuts = |h: Handle, other: Vec3, radius: f32| {
+        h.as_node().is_some_and(|n| {
+            let node = &mesh.nodes[n];
+            let n = mesh.patches[node.patch as usize].normal;
+            n.dot(other - node.face.corners()[0]).abs() <= radius
+        })
+    };
+    !(cuts(r, cs, rs) || cuts(s, cr, rr))
+}
+
 /// Two disjoint bounding spheres: every segment between them lies within the angle `alpha`
 /// of the centres' line `w` and is between `near` and `far` long.
 #[derive(Clone, Copy, Debug)]
@@ -220,13 +259,7 @@ impl<'a> View<'a> {
     /// Bounding sphere (centre, radius) of a handle.
     #[must_use]
     pub fn sphere(&self, h: Handle) -> (Vec3, f32) {
-        match h.end() {
-            End::Cluster(c) => {
-                let c = &self.clusters.nodes[c];
-                (c.center, c.radius)
-            }
-            End::Node(n) => self.mesh.nodes[n].sphere(),
-        }
+        sphere(self.mesh, self.clusters, h)
     }
 
     /// Appends the children of a handle to `out`: two clusters, the faces of a leaf cluster,
@@ -259,7 +292,6 @@ impl<'a> View<'a> {
         if !r.is_cluster() && !s.is_cluster() {
             return self.face_to_face(r, s, sight);
         }
-        // Overlapping spheres (or NaN geometry): the kernel cannot be trusted.
         let Some(Separation {
             cr,
             cs,
@@ -267,24 +299,10 @@ impl<'a> View<'a> {
             alpha,
             near,
             far,
-        }) = self.separation(r, s)
+        }) = self.trusted(r, s)
         else {
             return Estimate::Open;
         };
-        let (rr, rs) = (self.sphere(r).1, self.sphere(s).1);
-        // A face whose plane cuts the other side's sphere sees it partly from behind: the
-        // kernel between centres says little there (a wall next to the cluster of its
-        // neighbours, say), so the cluster is opened.
-        let cuts = |h: Handle, other: Vec3, radius: f32| {
-            h.as_node().is_some_and(|n| {
-                let node = &self.mesh.nodes[n];
-                let n = self.mesh.patches[node.patch as usize].normal;
-                n.dot(other - node.face.corners()[0]).abs() <= radius
-            })
-        };
-        if cuts(r, cs, rs) || cuts(s, cr, rr) {
-            return Estimate::Open;
-        }
         let (lo_r, c_r, hi_r) = self.cosines(r, w, alpha);
         let (lo_s, c_s, hi_s) = self.cosines(s, -w, alpha);
         let kernel = self.area(s) / std::f64::consts::PI;
@@ -437,6 +455,22 @@ impl<'a> View<'a> {
         let (_, _, hi_r) = self.cosines(r, sep.w, sep.alpha);
         let (_, _, hi_s) = self.cosines(s, -sep.w, sep.alpha);
         self.largest_kernel(s, hi_r, hi_s, sep.near).min(most)
+    }
+
+    /// The separation of a pair with a cluster at one end or both when the cluster kernel can
+    /// be trusted for it ([`resolved`]), `None` when [`View::estimate`] must open a cluster
+    /// instead.
+    fn trusted(&self, r: Handle, s: Handle) -> Option<Separation> {
+        resolved(self.mesh, self.clusters, r, s)
+            .then(|| self.separation(r, s))
+            .flatten()
+    }
+
+    /// Whether [`View::estimate`] can estimate the pair without opening a cluster
+    /// ([`resolved`]).
+    #[must_use]
+    pub fn resolves(&self, r: Handle, s: Handle) -> bool {
+        resolved(self.mesh, self.clusters, r, s)
     }
 
     /// How two handles' bounding spheres lie to each other, or `None` when they overlap (or
