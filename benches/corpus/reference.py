@@ -31,9 +31,9 @@ not rendered.
 
 Usage (LLVM back end: apt-get install libllvm19;
 DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1):
-    python3 benches/corpus/reference.py /work/shared/corpus/cornell-box --spp 1024 --passes 8
-    python3 benches/corpus/reference.py /work/shared/corpus/cornell-box --ladder-only
-    python3 benches/corpus/reference.py /work/shared/corpus/cornell-box --variant-only
+    python3 benches/corpus/reference.py CORPUS/cornell-box --spp 1024 --passes 8
+    python3 benches/corpus/reference.py CORPUS/cornell-box --ladder-only
+    python3 benches/corpus/reference.py CORPUS/cornell-box --variant-only
     python3 benches/corpus/reference.py --time-to-error 0.02 benches/corpus/reference/cornell-box.json
 benches/corpus/README.md describes the committed references.
 """

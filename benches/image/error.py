@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The error of a rendered image against a reference: RMS of the relative luminance error over
-4 x 4-pixel blocks (the measure of issue 14), and the mean relative error (bias).
+4 x 4-pixel blocks (the picture measure of docs/raytracing.md), and the mean relative error (bias).
 
 Luminance Y = 0.2126 R + 0.7152 G + 0.0722 B of linear radiance; the block means are compared,
 so pixel noise finer than a block averages out as it does for the eye, and blocks whose reference

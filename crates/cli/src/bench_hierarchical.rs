@@ -1,7 +1,7 @@
 //! `radiosity bench --suite hierarchical`: how the hierarchical solver's time, links and memory
 //! grow with the number of elements, from about 10⁴ to 10⁶.
 //!
-//! Two series, as issue 4 asks:
+//! Two series:
 //!
 //! - **The Cornell box at falling ε** ([`EPSILONS`]): the same scene refined further, so the
 //!   elements multiply where light varies (shadow edges, corners).

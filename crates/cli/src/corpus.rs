@@ -18,7 +18,7 @@
 //! - `seconds`, and Mitsuba's time to our error: along the ladder's two nearest renders, with
 //!   error ∝ time^(−1/k) between them (k = 2 for an unbiased Monte Carlo estimate).
 //!
-//! Goals (issue 41): error ≤ 2 %, p99 ≤ 10 %, ratio within 1 %.
+//! Goals: error ≤ 2 %, p99 ≤ 10 %, ratio within 1 %.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

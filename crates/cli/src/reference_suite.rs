@@ -9,8 +9,7 @@
 //! the whole engine runs at its default settings, and one row reports the object and channel
 //! furthest from the reference; it passes within [`TOLERANCE`]. A scene whose reference says it
 //! is `closed` (a room closed on every side) gets a second row: the power its surfaces absorb
-//! over the power they emit, worst channel, which must be one within [`ENERGY_TOLERANCE`]
-//! (issue 13). The files are read from the
+//! over the power they emit, worst channel, which must be one within [`ENERGY_TOLERANCE`]. The files are read from the
 //! repository at run time (`--suite-dir`, default the current directory), not compiled in:
 //! the scenes are a few megabytes.
 

@@ -1,4 +1,4 @@
-//! End-to-end tests of the `radiosity` binary: the public contract of DESIGN.md §5.
+//! End-to-end tests of the `radiosity` binary: its public contract (command line, exit codes, outputs, stats JSON).
 
 use std::collections::BTreeSet;
 use std::fs;

@@ -105,8 +105,7 @@ fn reference_suite_subset_is_within_one_percent() {
 /// (`benches/suite/partitions`: two rooms lit only through a door and a gap). Links from
 /// surfaces that do not emit look weak in the first pass (B = E); dropping the hidden ones once
 /// lost every link through the door, and the far room came out 27 % dark at any ε. Measured
-/// with the elements' own rows, visibility and source pieces (docs/validation.md, thirteenth
-/// round): partitions +0.67 %, closed-mesh −0.23 %, blender-gltf +0.31 %,
+/// with the elements' own rows, visibility and source pieces (docs/decisions/hierarchical-rows.md): partitions +0.67 %, closed-mesh −0.23 %, blender-gltf +0.31 %,
 /// emitter-near-wall-away −0.35 %; each within the suite's 1 %. The two closed rooms' absorbed
 /// over emitted power, 1.0009 and 1.0008, within the suite's 0.1 %. And the bare OBJ room
 /// (`bare-obj-many`, every face two-sided), whose block stands on the floor without a bottom:

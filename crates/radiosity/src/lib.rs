@@ -11,9 +11,9 @@
 //! 1. [`scene`]: the scene format (parse → validate → build) and built-in scenes.
 //! 2. [`mesh`]: patches, element quadtrees and the display mesh.
 //! 3. [`accel`]: a bounding-volume hierarchy for visibility.
-//! 4. [`formfactor`]: analytic and ray-cast form factors.
-//! 5. [`solve`]: Jacobi, Gauss-Seidel and progressive refinement.
-//! 6. [`render`]: camera, z-buffer rasterizer, tone mapping.
+//! 4. [`formfactor`]: analytic, ray-cast and hemicube form factors.
+//! 5. [`solve`]: Jacobi, Gauss-Seidel, progressive refinement and hierarchical radiosity.
+//! 6. [`render`]: camera, z-buffer rasterizer, ray tracer, the evaluated picture, tone mapping.
 //! 7. [`io`]: mesh files in, images out.
 //!
 //! [`pipeline`] strings them together and [`stats`] reports what happened.

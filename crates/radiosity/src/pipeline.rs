@@ -24,7 +24,7 @@ pub struct Settings {
     /// How finely patches are split into elements.
     pub subdivision: Subdivision,
     /// Whether the outlines of sharp shadows become element edges (discontinuity meshing,
-    /// `mesh::discontinuity`); off by default (docs/validation.md, eleventh round).
+    /// `mesh::discontinuity`); off by default (docs/decisions/discontinuity-meshing.md).
     pub discontinuity: bool,
     /// How form factors are computed.
     pub form_factors: formfactor::Settings,
@@ -270,7 +270,7 @@ impl Solved {
         }
     }
 
-    /// The statistics of DESIGN.md §5. `timings` supplies the stages measured outside the
+    /// The statistics of `--stats` ([`crate::stats`]). `timings` supplies the stages measured outside the
     /// pipeline (`load`, `render`, `total`); the others come from the solve.
     #[must_use]
     pub fn stats(&self, timings: &Timings) -> Stats {

@@ -1,4 +1,4 @@
-//! The statistics file (`--stats`): the public JSON contract of DESIGN.md §5.
+//! The statistics file (`--stats`): a public JSON contract (its fields are documented below).
 //!
 //! ```json
 //! { "patches": 34, "elements": 4096, "links": 1234567,

@@ -46,7 +46,7 @@ fn cube_power_is_emitted_over_one_minus_rho() {
     // links cover the cube once. The elements gather with their own factors (leaf rows) and
     // every source shines what its pieces shine toward each receiver (source pieces), so rows
     // and columns both sum to one: measured 0.008 % (ρ 0.3) and 0.041 % (ρ 0.7); asserted
-    // within the 0.1 % that issue 13 asks of every closed scene.
+    // within the 0.1 % that the reference suite asks of every closed scene.
     for rho in [0.3, 0.7] {
         let s = run(
             testing::closed_cube(rho, [0.0, 0.0, 1.0, 0.0, 0.0, 0.0]),

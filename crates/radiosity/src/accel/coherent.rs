@@ -29,7 +29,7 @@
 //! query. The packets are the slice's consecutive groups of [`PACKET`] from its start, so the
 //! result depends on the slice only, not on threads or the instruction set.
 //!
-//! Measured (`benches/README.md` sixth pass, 1M triangles, one thread): closest hit on a 512²
+//! Measured (`benches/README.md`, 1M triangles, one thread): closest hit on a 512²
 //! camera's primary rays 1.22–1.99× the one-ray query (closed field 2.92 → 5.81 Mrays/s), on
 //! shadow rays 1.07–1.35×; incoherent rays are slower in packets (0.73–0.85×): use
 //! [`Bvh::closest_hits`].

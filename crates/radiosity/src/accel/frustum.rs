@@ -24,7 +24,7 @@
 //!
 //! On an axis where the rays' directions differ in sign the near plane differs from ray to
 //! ray and the interval bounds nothing; such packets get no bounds. (Measured on the
-//! 1M-triangle benchmark scenes, one thread, `benches/README.md` sixth pass: with the bounds
+//! 1M-triangle benchmark scenes, one thread, `benches/README.md`: with the bounds
 //! a camera's packets test 1.6–2.0 of a node's 7.5 children against their rays instead of
 //! all, 0.99–1.07× the rays per second; shadow-ray packets towards a light, whose directions
 //! often straddle an axis and whose origins spread, kept 4 of 7.4 with the axes that do

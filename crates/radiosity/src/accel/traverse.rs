@@ -33,8 +33,8 @@
 //! hierarchy larger than a core's cache (`IN_CACHE`), each step of theirs also prefetches
 //! every child it enters, and an occlusion step leaves its leaves to steps of their own, so
 //! that a leaf's misses overlap with the other rays' steps too (1M triangles, incoherent
-//! occlusion: teapot 1.13 → 1.86, open field 1.01 → 1.44 Mrays/s; `benches/README.md`,
-//! fifth pass). The rays do not interact: each gets exactly what the one-ray query gives.
+//! occlusion: teapot 1.13 → 1.86, open field 1.01 → 1.44 Mrays/s; `benches/README.md`).
+//! The rays do not interact: each gets exactly what the one-ray query gives.
 
 use glam::Vec3;
 

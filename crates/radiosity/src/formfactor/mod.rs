@@ -6,8 +6,8 @@
 //! F_ij = (1/A_i) ∫_{A_i} ∫_{A_j} cosθ_i cosθ_j V(x, y) / (π r²) dA_j dA_i ,
 //! ```
 //!
-//! with reciprocity A_i F_ij = A_j F_ji and, in a closed scene, Σ_j F_ij = 1. Both methods here
-//! evaluate the inner integral *exactly* for the unoccluded case with Lambert's contour
+//! with reciprocity A_i F_ij = A_j F_ji and, in a closed scene, Σ_j F_ij = 1. The analytic and
+//! ray-cast methods evaluate the inner integral *exactly* for the unoccluded case with Lambert's contour
 //! integral ([`analytic::point_to_polygon`]), at an n × n grid of quadrature points on the
 //! receiver (midpoint rule, weighted by area), so they share the same kernel:
 //!
@@ -20,6 +20,9 @@
 //!   fraction by the exact unoccluded factor is the estimator of Hanrahan, Salzman & Aupperle
 //!   1991). The jitter of every ray comes from a hash of (element, source, ray, seed), so the
 //!   result depends on neither the thread count nor the order of the calls.
+//! - [`Method::Hemicube`] ([`hemicube`]): Cohen & Greenberg's (1985) hemicube, a z-buffer over
+//!   five faces around each quadrature point; near sources take Lambert's exact factor times
+//!   their visible share of cells (`docs/hemicube.md`).
 //!
 //! Pairs on the same patch (coplanar: cosθ = 0) and pairs that face away from each other get 0
 //! without any work.
@@ -354,7 +357,7 @@ pub(crate) fn facing(receiver: &Face, n_receiver: Vec3, source: &Face, n_source:
 /// Cornell box, most of it in `atan2`), so evaluating it once instead of n² times there took the
 /// default Cornell solve from 13.0 to 7.5 s of CPU; its object means moved by 0.035 % at most,
 /// every scene of `benches/suite` by 0.05 points at most, and the 256² picture from 1.94 % to
-/// 1.95 % (docs/validation.md, seventh round).
+/// 1.95 % (docs/decisions/far-field.md).
 pub(crate) const FAR_FIELD: f64 = 8.0;
 
 /// The unoccluded form factor from a receiver to a source polygon: the weighted sum of

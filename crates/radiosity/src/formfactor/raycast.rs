@@ -53,7 +53,7 @@ impl Default for Settings {
     ///
     /// | rays per pair | worst object, all scenes but one | `emitter-near-wall-facing` | solve time |
     /// |---|---|---|---|
-    /// | 16, after a pilot of 4 that decided alone when unanimous (until 2 December) | 0.80 % | −2.98 % | 91 s |
+    /// | 16, after a pilot of 4 that decided alone when unanimous | 0.80 % | −2.98 % | 91 s |
     /// | 4 | 0.78 % | −1.91 % | 47 s |
     /// | 2 | 0.89 % | −1.72 % | |
     ///

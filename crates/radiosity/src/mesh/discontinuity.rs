@@ -48,7 +48,7 @@ const MAX_EMITTERS: usize = 8;
 /// sharp ones. A soft shadow (a large window's, a thin leg's) changes slowly across its
 /// penumbra, and its outlines only fragment the mesh (measured with every shadow outlined: the
 /// furnished room's elements 7 576 → 22 371, its solve 17 → 619 s; at a quarter 13 015 and
-/// 28 s; docs/validation.md).
+/// 28 s; docs/decisions/discontinuity-meshing.md).
 const SHARP: f64 = 0.25;
 
 /// Relative tolerance (of the occluder's size) for a corner lying on the receiver's plane or on

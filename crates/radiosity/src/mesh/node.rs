@@ -3,7 +3,7 @@
 //!
 //! A hierarchical solve estimates about twenty-five million factors on the furnished room, each
 //! wanting the receiver's area, centroid, normal and bounding sphere; computed from the corners
-//! at every call they were a tenth of the solver's time (`perf`, 5 December). A face never
+//! at every call they were a tenth of the solver's time (`perf`). A face never
 //! changes once its node is made, so the node computes them once, when it is made.
 
 use std::ops::Range;

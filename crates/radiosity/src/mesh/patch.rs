@@ -2,7 +2,7 @@
 //!
 //! Each polygon gives one patch for its front. A `two_sided` material gives a second patch for
 //! the back (the same corners in reverse order, so its "front" is the polygon's back), which
-//! reflects with the same ρ but never emits: emission is from the front only (DESIGN.md §2).
+//! reflects with the same ρ but never emits: emission is from the front only (docs/scene-format.md).
 //!
 //! A patch is planar. Files made by modelling tools are full of quads a little out of plane
 //! (the published Cornell box's left wall by 0.1 %, walls "as exported" by 1–2 %); a quadtree of

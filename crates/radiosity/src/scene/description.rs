@@ -1,6 +1,6 @@
 //! Scene descriptions: what a scene file says, before it is checked or built.
 //!
-//! Plain structs, one per table of the format (DESIGN.md §6), in which every value keeps where
+//! Plain structs, one per table of the format (docs/scene-format.md), in which every value keeps where
 //! it was written ([`Field`]: its 1-based line and column and its dotted key path), so that
 //! [`super::validate`] and [`super::build`] can point at the exact spot of a problem, as
 //! pbrt-v4's scene entities keep their `FileLoc`.

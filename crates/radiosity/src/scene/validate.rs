@@ -1,6 +1,6 @@
 //! Validation: a parsed [`SceneDesc`] is checked for meaning before anything is built.
 //!
-//! Ranges follow the physics of DESIGN.md §2: a diffuse reflectance ρ must satisfy 0 ≤ ρ < 1
+//! Ranges follow the physics (docs/scene-format.md): a diffuse reflectance ρ must satisfy 0 ≤ ρ < 1
 //! per channel (ρ = 1 would make the radiosity system B = E + ρFB singular in a closed scene),
 //! emitted radiance is non-negative, and every polygon must be a proper polygon; one that is
 //! strongly non-planar (beyond the tolerance below) is not an error but is split into triangles

@@ -110,7 +110,7 @@ impl Near {
 /// elements in another surface's near field ([`crate::mesh::Node::near`]) are capped: elsewhere
 /// a row errs only by its shadow rays' noise, both ways, and cutting its high draws alone is a
 /// bias (with four rays per pair the furnished room absorbed 0.13 % less than it emits when
-/// every row was capped, 0.04 % more with near rows only; docs/validation.md, ninth round).
+/// every row was capped, 0.04 % more with near rows only; docs/decisions/row-capping.md).
 fn cap_at_hemisphere(row: &mut [f32], pieces: &mut [Piece]) {
     let sum: f64 = row.iter().map(|&f| f64::from(f)).sum::<f64>()
         + pieces.iter().map(|p| f64::from(p.factor)).sum::<f64>();

@@ -9,7 +9,7 @@
 //!
 //! (Goral et al. 1984): a source shoots the area-weighted mean radiosity of its elements, which
 //! is the substructuring of Cohen, Greenberg, Immel & Brock 1986. With as many sources as
-//! elements it is the classic n × n system. Three ways to solve it:
+//! elements it is the classic n × n system. Four ways to solve it:
 //!
 //! - [`Method::Jacobi`] ([`jacobi`]): gather into a new vector from the old one, all elements in
 //!   parallel, with the form factors stored in a [`matrix::Matrix`].
@@ -24,7 +24,7 @@
 //!
 //! # Residual
 //!
-//! All three report the same measure: the power that the last step still had to move, relative
+//! All four report the same measure: the power that the last step still had to move, relative
 //! to the emitted power,
 //!
 //! ```text

@@ -33,7 +33,7 @@ use crate::mesh::Mesh;
 /// sources (`--sources`; `python3 benches/suite/compare.py`): at 2
 /// diameters the closed-mesh scene's ceiling came out −0.93 % and the furnished room's walls
 /// −1.2 to −1.4 % (every element a source: +0.18 %, +0.61 %); at 4 every scene is where it was
-/// with every element a source, within 0.3 points (docs/validation.md, seventh round).
+/// with every element a source, within 0.3 points (docs/decisions/near-sources.md).
 pub const REACH: f64 = 4.0;
 
 /// An opened piece of a source: its elements (a range of [`Mesh::elements`]) and the form

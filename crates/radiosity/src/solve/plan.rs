@@ -12,9 +12,9 @@
 //! than [`MIN_ELEMENTS_PER_ROOT`] elements each (furniture, tessellated meshes), where a few
 //! elements per face cannot follow the light along contacts and shadows and hierarchical
 //! radiosity refines where the light asks. Measured at 256² against Mitsuba 3
-//! (docs/raytracing.md): the furnished room (3 742 root faces, 1.5 elements each at the
-//! default budget) 0.80 % with Gauss-Seidel against 0.42 % hierarchical; the closed-mesh scene
-//! (2 895 root faces) 1.29 % against 0.98 % away from its rims; the Cornell box (28 root faces,
+//! (docs/decisions/automatic-solver.md): the furnished room (3 742 root faces, 1.5 elements
+//! each at the default budget) 0.80 % with Gauss-Seidel against 0.42 % hierarchical; the
+//! closed-mesh scene (2 895 root faces) 1.29 % against 0.98 % away from its rims; the Cornell box (28 root faces,
 //! 145 elements each) stays with Gauss-Seidel, 0.71 % against 1.22 %. The partitions of the
 //! suite (277 root faces, 12.7 each) go hierarchical too: worst object +0.77 % against
 //! +0.92 %. Both solvers are within 1 % per object on the reference suite at their defaults
@@ -29,7 +29,7 @@
 //! The command line asks for hierarchical radiosity itself when no option sizes the uniform
 //! mesh or sets up its matrix (`--elements`, `--max-element-area`, `--sources`, the
 //! form-factor options; [`unsized_method`]): measured side by side
-//! on 6 December (docs/raytracing.md), hierarchical radiosity reaches a given picture error
+//! (docs/decisions/automatic-solver.md), hierarchical radiosity reaches a given picture error
 //! sooner than Gauss-Seidel on the Cornell box as well (0.75 % in 3.7 s against 0.66 % in 6.5 s
 //! at 256², where Mitsuba 3 needs 46 s and 60 s), and the furnished room and the tessellated
 //! scenes were hierarchical already. Those options given, the choice above is made for the

@@ -56,7 +56,7 @@
 //!   the horizon and the emitter hides it. Progressive refinement shoots from such walls, so a
 //!   shooter's hemicubes stand at jittered points of their cells (a stratified rule, unbiased
 //!   whatever the integrand; [`super::Receiver::set_jittered`]): the suite's emitter facing a
-//!   wall, ceiling −3.43 % → within 0.6 % (docs/validation.md, seventeenth round). A row
+//!   wall, ceiling −3.43 % → within 0.6 % (docs/decisions/hemicube-shooter.md). A row
 //!   keeps the cell centres: jittered, the rows took the furnished room's shelf from +1.09 to
 //!   +0.92 % but the partitions' right ceiling from +0.93 to +1.35 % and their power balance
 //!   from 1.0010 to 0.9988 (Gauss-Seidel), noisier rather than better.

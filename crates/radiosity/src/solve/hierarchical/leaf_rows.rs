@@ -7,8 +7,7 @@
 //! walls, averaged over a region that sees them better, beside its own fine link to the near
 //! wall. In a white furnace (an empty cube, every face ρ = 0.5 and emitting, exact
 //! B = E / (1 − ρ)) single elements' row sums Σ F ranged 0.90–1.44, where they must be 1, and
-//! the bright ones fed their neighbours; a corner element was 17.5 % off (`docs/validation.md`,
-//! ninth round).
+//! the bright ones fed their neighbours; a corner element was 17.5 % off (`docs/decisions/hierarchical-rows.md`).
 //!
 //! After the refinement has settled the links, each element's row is written out with its own
 //! factor to the source of every link that it gathers through — its own links and those of
@@ -27,7 +26,7 @@
 //! shadow must not get the link's mean. The fresh rays are there because the refinement
 //! selects: it keeps a link whose rays all arrived and splits one whose rays did not, so the
 //! kept links' rays missed the occluders they missed. Counted against 2 304 cosine rays from
-//! each of 750 elements of the furnished room (`docs/validation.md`, nineteenth round), the
+//! each of 750 elements of the furnished room (`docs/decisions/hierarchical-visibility.md`), the
 //! links its rays called clear gave the floor's elements 1.1 % more of their hemisphere than
 //! it holds (the floor under a chair's seat, +10 % in the picture), and the ceiling's 0.3 %.
 //! A link with a cluster at either end takes the fresh rays' visibility, and so does the

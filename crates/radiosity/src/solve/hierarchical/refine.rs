@@ -72,7 +72,7 @@ impl Oracle<'_> {
     /// its mean misstates what it sends: ΔB_s·F·A_r above the variation threshold. BF
     /// refinement judges a link by the source's mean B alone, so a face split across a
     /// shadow edge sent every receiver the mean of its lit and shadowed parts. Measured on
-    /// `benches/suite` at ε = 10⁻⁴ (docs/validation.md, sixth round): closed-mesh +3.3 % →
+    /// `benches/suite` at ε = 10⁻⁴ (docs/decisions/hierarchical-rows.md): closed-mesh +3.3 % →
     /// −1.8 %, cornell-faces −4.3 % → −3.5 %, obj-box +4.4 % → +3.6 %; the furnished room's
     /// ball (+6.9 %) did not move.
     fn source_varies(&self, view: &View, l: &Link) -> bool {

@@ -35,7 +35,7 @@
 //! give every part of a source its own factor to a receiver, at the resolution of the pieces
 //! ([`Clusters`] and quadtree levels), which bounds the cost by [`PIECES`] factors per link.
 //!
-//! Measured on `benches/suite` (docs/validation.md, thirteenth round), with the elements' own
+//! Measured on `benches/suite` (docs/decisions/hierarchical-rows.md), with the elements' own
 //! visibility in the rows: the bare OBJ room's ceiling −5.2 → −0.8 %, the furnished room's
 //! ball +6.0 → +1.8 % split evenly, +0.3 % split where the receiver looks (the dark spot of
 //! the table right under it), cornell-faces' short block +4.0 → +1.0 %; the closed

@@ -16,12 +16,11 @@ const PILOT: u32 = 4;
 /// Salt of [`View::fresh_visibility`]'s rays (0 for the link's own).
 const FRESH: u64 = 0xF8E5_0000_0000;
 
-/// Shadow rays between front-facing member faces where a cluster is at either end. Four (until
-/// 3 December, sixth session) found a link wholly hidden whenever they all happened to be
+/// Shadow rays between front-facing member faces where a cluster is at either end. Four found a link wholly hidden whenever they all happened to be
 /// blocked — a chair's cluster seen through a table's legs, say —, and such a link carries
 /// nothing: the furnished room's chairs delivered 0.93 of the light they shine. Sixteen took its
 /// worst object from −1.9 % to −0.5 % (chairs) and the bare OBJ room's from +1.9 % to +1.4 %
-/// (docs/validation.md, thirteenth round).
+/// (docs/decisions/hierarchical-visibility.md).
 const CLUSTER_RAYS: u32 = 16;
 
 /// Stratified shadow rays between two faces besides the quadrant pairs (a 4 × 4 grid).
@@ -70,8 +69,8 @@ impl View<'_> {
     /// faces, each weighted by cosθ_r cosθ_s / r² at its ends. All 20 unless the `sight` is
     /// clear (the pair refines one whose 20 rays all arrived) and the 4 quadrant rays arrive
     /// too: then 1.
-    /// Letting a unanimous 4-ray pilot decide for a fresh pair (as the matrix solvers did per
-    /// element pair until 2 December) biased the Cornell box 3–8 % low here, where one link stands for a whole
+    /// Letting a unanimous 4-ray pilot decide for a fresh pair (as the matrix solvers once did per
+    /// element pair) biased the Cornell box 3–8 % low here, where one link stands for a whole
     /// subtree of pairs; trusting the parent's 20 rays alone, without the pilot, biased it
     /// 1 % high at ε = 10⁻⁵ (occluders the parent's rays missed). Without `stratified`, the
     /// four quadrant rays alone. `salt` varies the rays ([`View::fresh_visibility`]).
@@ -133,12 +132,11 @@ impl View<'_> {
     /// other's faces). The member faces are drawn in proportion to their areas, so each ray
     /// weighs cosθ_p cosθ_q / r², its share of ∫∫ cosθ cosθ' / (π r²) dA dA'. A plain count
     /// over faces drawn by count weighed every drawn face alike whatever its size and slant
-    /// (the furnished room's chairs delivered 0.92–0.93 of the light they shine, fourteenth
-    /// round); faces drawn by count and weighted by their areas, A_p A_q cosθ_p cosθ_q / r²,
+    /// (the furnished room's chairs delivered 0.92–0.93 of the light they shine); faces drawn by count and weighted by their areas, A_p A_q cosθ_p cosθ_q / r²,
     /// were right on average but a ratio of 16 such terms is not: the rare draw of a chair's
     /// seat carries the weight, the many draws of its legs, often hidden, the count, and the
     /// ratio fell 6 % short on the furnished room's ceiling (against 2 304 cosine rays per
-    /// element, `docs/validation.md`, nineteenth round). Drawn by area, 16 rays are as right
+    /// element, `docs/decisions/hierarchical-visibility.md`). Drawn by area, 16 rays are as right
     /// as 512. `salt` varies the rays ([`View::fresh_visibility`]).
     pub(super) fn cluster_visibility(&self, r: Handle, s: Handle, salt: u64) -> f64 {
         let pair = mix(mix(u64::from(r.to_bits()) ^ 0x5EED ^ salt) ^ u64::from(s.to_bits()));
