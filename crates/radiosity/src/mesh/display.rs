@@ -317,8 +317,10 @@ fn edge_points(
 
 /// Surface id per patch: patches of one object, on the same side, in the same plane share one,
 /// and so do the planar pieces of one non-planar polygon (see [`super::patch`]), whose shared
-/// diagonal must stay crack-free too.
-fn surfaces(mesh: &Mesh) -> Vec<u32> {
+/// diagonal must stay crack-free too. The lit mesh shares its vertices within a surface, so
+/// whatever is interpolated over it must be split the same way on all of the surface's patches
+/// (the near field's reach, `render::raytrace::evaluate`).
+pub(crate) fn surfaces(mesh: &Mesh) -> Vec<u32> {
     let mut pieces: HashMap<(u32, bool), u32> = HashMap::new();
     for p in &mesh.patches {
         *pieces.entry((p.polygon, p.back)).or_default() += 1;
