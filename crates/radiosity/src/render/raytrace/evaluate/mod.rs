@@ -90,6 +90,7 @@
 pub mod display_refinement;
 mod luminaires;
 mod near_field;
+mod wanted;
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -159,10 +160,14 @@ impl Evaluation {
         (radiosity, reflected): (&[Rgb], Option<&[Rgb]>),
         open: &[f64],
         samples: u32,
+        wanted: Option<&[bool]>,
     ) -> Vec<Rgb> {
         let direct: Vec<[Rgb; PIECES]> = (0..mesh.element_count())
             .into_par_iter()
             .map(|e| {
+                if wanted.is_some_and(|w| !w[e]) {
+                    return [Rgb::ZERO; PIECES];
+                }
                 let node = mesh.element(e);
                 let patch = &mesh.patches[node.patch as usize];
                 let mut sampler = Sampler::new(e as u32, u32::MAX, 0);
@@ -179,10 +184,17 @@ impl Evaluation {
             })
             .collect();
         let solution = (radiosity, reflected);
-        let first = far_radiosity(mesh, solution, open, &self.near, &direct, None);
+        let first = far_radiosity(mesh, solution, open, &self.near, &direct, (None, wanted));
         self.near.values = first.iter().map(|f| f.pieces).collect();
         let first: Vec<Option<Far>> = first.iter().map(|f| (!f.by_pieces).then_some(*f)).collect();
-        let split = far_radiosity(mesh, solution, open, &self.near, &direct, Some(&first));
+        let split = far_radiosity(
+            mesh,
+            solution,
+            open,
+            &self.near,
+            &direct,
+            (Some(&first), wanted),
+        );
         let scale: Vec<Rgb> = split.iter().map(|f| f.scale).collect();
         self.scale = display::lit_mesh_faceted(mesh, &scale, None).radiosity;
         split.iter().map(|f| f.far).collect()
@@ -202,19 +214,23 @@ pub fn render(
     settings: &RaytraceSettings,
     watch: &Watch,
 ) -> Option<Image> {
-    let (evaluation, _, lit) = prepare(scene, mesh, solution, settings.shadow_samples);
+    let view = Some((camera, image));
+    let (evaluation, _, lit) = prepare(scene, mesh, solution, settings.shadow_samples, view);
     let world = World::new(scene, mesh, &lit);
     trace_image(&world, Some(&evaluation), camera, image, settings, watch)
 }
 
 /// What evaluating `radiosity` at points needs: the exact direct light and the near field
 /// settled on the pieces, the solution's lit mesh (averaged), and the lit mesh of the far part
-/// R with its border vertices extrapolated. The two lit meshes have the same triangles.
+/// R with its border vertices extrapolated. The two lit meshes have the same triangles. With a
+/// `view` (camera and image), only the elements its picture can read are settled
+/// ([`wanted`]); without one (the exported mesh), all.
 fn prepare(
     scene: &Scene,
     mesh: &Mesh,
     solution: &Solution,
     samples: u32,
+    view: Option<(&Camera, &RasterSettings)>,
 ) -> (Evaluation, LitMesh, LitMesh) {
     let radiosity = &solution.radiosity;
     let mut evaluation = Evaluation {
@@ -228,7 +244,18 @@ fn prepare(
     let world = World::new(scene, mesh, &full);
     let reflected = solution.reflected_irradiance.as_deref();
     let open = exposure::open_fraction(mesh, &Bvh::build(&mesh.triangles), &mesh.elements);
-    let far = evaluation.settle(&world, mesh, (radiosity, reflected), &open, samples);
+    // The cheap split of an unwanted element needs the solution's reflected light.
+    let wanted = view
+        .filter(|_| reflected.is_some())
+        .and_then(|view| wanted::wanted(scene, &world, mesh, &evaluation.near, view));
+    let far = evaluation.settle(
+        &world,
+        mesh,
+        (radiosity, reflected),
+        &open,
+        samples,
+        wanted.as_deref(),
+    );
     let lit = display::lit_mesh_faceted(mesh, &far, Some(&open));
     (evaluation, full, lit)
 }
@@ -262,14 +289,16 @@ struct Far {
 /// instead, keeping the mean. B − E at each piece is ρ E_d + k ρ N + R (1 − S) there, which the
 /// near field shows to the points next to the element. Where `known` holds an element's split
 /// already (none of its pieces sees an element close enough to be shown by its pieces, so the
-/// pieces change nothing), that is taken instead.
+/// pieces change nothing), that is taken instead. An element that `wanted` leaves out
+/// (no point of the picture reads it, [`wanted`]) gets R = B_i with no near part, from the
+/// solution's reflected light.
 fn far_radiosity(
     mesh: &Mesh,
     (radiosity, reflected): (&[Rgb], Option<&[Rgb]>),
     open: &[f64],
     near_field: &NearField,
     direct: &[[Rgb; PIECES]],
-    known: Option<&[Option<Far>]>,
+    (known, wanted): (Option<&[Option<Far>]>, Option<&[bool]>),
 ) -> Vec<Far> {
     (0..mesh.element_count())
         .into_par_iter()
@@ -279,6 +308,15 @@ fn far_radiosity(
             }
             let node = mesh.element(e);
             let patch = &mesh.patches[node.patch as usize];
+            if let (Some(false), Some(h)) = (wanted.map(|w| w[e]), reflected) {
+                let indirect = patch.reflectance * h[e] / open[e].max(MIN_OPEN);
+                return Far {
+                    far: indirect,
+                    scale: Rgb::ONE,
+                    pieces: [indirect; PIECES],
+                    by_pieces: false,
+                };
+            }
             let at = &near_field.pieces[e];
             let mut parts = [(Rgb::ZERO, Rgb::ZERO, 0.0); PIECES];
             let (mut lit, mut near, mut share, mut area) = (Rgb::ZERO, Rgb::ZERO, 0.0, 0.0);
@@ -398,7 +436,7 @@ vertices = [[-0.3, 2, -0.4], [0.3, 2, -0.4], [0.3, 2, 0.4], [-0.3, 2, 0.4]]
         let (scene, mesh) = (&solved.scene, &solved.mesh);
         let floor = mesh.patches.iter().filter(|p| p.object == 0).count();
         assert_eq!(floor, 2, "the folded floor is two patches");
-        let (evaluation, _, lit) = prepare(scene, mesh, &solved.solution, 16);
+        let (evaluation, _, lit) = prepare(scene, mesh, &solved.solution, 16, None);
         let world = World::new(scene, mesh, &lit);
         let radiance = |x: f32, z: f32| {
             let eye = Vec3::new(x, 0.5, z);
@@ -436,6 +474,73 @@ vertices = [[-0.3, 2, -0.4], [0.3, 2, -0.4], [0.3, 2, 0.4], [-0.3, 2, 0.4]]
         );
     }
 
+    /// The SHADOW scene beside a second floor 20 units away that the camera does not see: the
+    /// picture settles only the elements it can read, and is bit for bit the picture that
+    /// settles them all.
+    #[test]
+    fn a_picture_settles_only_what_it_reads_and_is_the_same_for_it() {
+        let far_floor = r#"
+[[objects]]
+name = "far floor"
+material = "floor"
+shape = "polygon"
+vertices = [[19, 0, 1], [21, 0, 1], [21, 0, -1], [19, 0, -1]]
+"#;
+        let text = format!("{SHADOW}{far_floor}");
+        let scene = Scene::from_toml_str(&text, Path::new("two.toml")).expect("loads");
+        let settings = crate::pipeline::Settings {
+            method: Some(crate::solve::Method::Hierarchical),
+            ..crate::pipeline::Settings::default()
+        };
+        let solved =
+            crate::pipeline::solve(scene, &settings, &crate::progress::Silent).expect("solves");
+        let (scene, mesh, solution) = (&solved.scene, &solved.mesh, &solved.solution);
+        let camera = Camera {
+            name: "near".to_owned(),
+            eye: Vec3::new(0.0, 1.5, 2.5),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y: 40.0,
+        };
+        let image = RasterSettings {
+            width: 40,
+            height: 30,
+            samples_per_pixel: 4,
+        };
+        let raytrace = RaytraceSettings::default();
+        let (evaluation, full, lit) = prepare(scene, mesh, solution, 16, None);
+        let world = World::new(scene, mesh, &full);
+        let wanted = wanted::wanted(scene, &world, mesh, &evaluation.near, (&camera, &image))
+            .expect("no mirrors");
+        let object = |e: usize| mesh.patches[mesh.element(e).patch as usize].object;
+        let far_floor: Vec<usize> = (0..mesh.element_count())
+            .filter(|&e| object(e) == 3)
+            .collect();
+        assert!(!far_floor.is_empty() && far_floor.iter().all(|&e| !wanted[e]));
+        assert!((0..mesh.element_count()).any(|e| object(e) == 0 && wanted[e]));
+        let all = trace_image(
+            &World::new(scene, mesh, &lit),
+            Some(&evaluation),
+            &camera,
+            &image,
+            &raytrace,
+            &Watch::SILENT,
+        )
+        .expect("not stopped");
+        let some = render(
+            scene,
+            mesh,
+            solution,
+            &camera,
+            &image,
+            &raytrace,
+            &Watch::SILENT,
+        )
+        .expect("not stopped");
+        assert!(all.pixels.iter().any(|p| p.max_element() > 0.0));
+        assert_eq!(all.pixels, some.pixels);
+    }
+
     #[test]
     fn the_pieces_keep_their_elements_mean_where_the_far_share_is_clamped() {
         // A plate 2 cm above a floor, facing it: under the plate the floor's near field takes
@@ -461,7 +566,7 @@ vertices = [[-0.3, 2, -0.4], [0.3, 2, -0.4], [0.3, 2, 0.4], [-0.3, 2, 0.4]]
             scale: Vec::new(),
         };
         let open = vec![1.0; mesh.element_count()];
-        let far = evaluation.settle(&world, &mesh, (&radiosity, None), &open, 16);
+        let far = evaluation.settle(&world, &mesh, (&radiosity, None), &open, 16, None);
         let mut clamped = 0;
         for e in 0..mesh.element_count() {
             let at = &evaluation.near.pieces[e];

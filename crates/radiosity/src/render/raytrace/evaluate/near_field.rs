@@ -112,6 +112,25 @@ impl Pieces {
 }
 
 impl NearField {
+    /// The near field's reach on patch `patch`.
+    pub(super) fn reach(&self, patch: u32) -> f32 {
+        self.reach[patch as usize]
+    }
+
+    /// Marks in `out` (by element index) every element below a node of the cut whose bounding
+    /// box comes within `distance` of `point` along every axis: a superset of the elements
+    /// within that distance.
+    pub(super) fn mark_within(&self, mesh: &Mesh, point: Vec3, distance: f32, out: &mut [bool]) {
+        let query = Aabb {
+            min: point - Vec3::splat(distance),
+            max: point + Vec3::splat(distance),
+        };
+        self.bvh.overlapping(&query, |k| {
+            let range = mesh.nodes[self.nodes[k] as usize].elements.clone();
+            out[range.start as usize..range.end as usize].fill(true);
+        });
+    }
+
     pub(super) fn new(mesh: &Mesh, radiosity: &[Rgb]) -> Self {
         let uniform = mesh.uniform_levels();
         let reach = surface_reach(mesh);
