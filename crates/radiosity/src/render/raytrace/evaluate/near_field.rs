@@ -6,6 +6,8 @@
 //! ([`split_piece`]): across a crease the light of the other surface changes fastest where the
 //! point weighs it most.
 
+use std::ops::Range;
+
 use glam::Vec3;
 
 use crate::accel::{Aabb, Bvh, Ray};
@@ -117,17 +119,22 @@ impl NearField {
         self.reach[patch as usize]
     }
 
-    /// Marks in `out` (by element index) every element below a node of the cut whose bounding
-    /// box comes within `distance` of `point` along every axis: a superset of the elements
-    /// within that distance.
-    pub(super) fn mark_within(&self, mesh: &Mesh, point: Vec3, distance: f32, out: &mut [bool]) {
+    /// The element ranges (by element index) below the nodes of the cut whose bounding boxes
+    /// come within `distance` of `point` along every axis: a superset of the elements within
+    /// that distance.
+    pub(super) fn within(
+        &self,
+        mesh: &Mesh,
+        point: Vec3,
+        distance: f32,
+        out: &mut Vec<Range<u32>>,
+    ) {
         let query = Aabb {
             min: point - Vec3::splat(distance),
             max: point + Vec3::splat(distance),
         };
         self.bvh.overlapping(&query, |k| {
-            let range = mesh.nodes[self.nodes[k] as usize].elements.clone();
-            out[range.start as usize..range.end as usize].fill(true);
+            out.push(mesh.nodes[self.nodes[k] as usize].elements.clone());
         });
     }
 

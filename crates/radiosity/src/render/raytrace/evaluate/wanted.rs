@@ -20,6 +20,8 @@
 //! part, which no point of the picture reads. A scene with mirrors or glass is evaluated
 //! everywhere: its rays go anywhere.
 
+use std::ops::Range;
+
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -46,47 +48,70 @@ pub(super) fn wanted(
     if scene.materials.iter().any(|m| m.is_specular()) {
         return None;
     }
-    let n = mesh.element_count();
     let proj = Projection::new(camera, image.width, image.height);
-    let union = |mut a: Vec<bool>, b: Vec<bool>| {
-        a.iter_mut().zip(b).for_each(|(a, b)| *a |= b);
-        a
-    };
-    let seen = (0..image.height)
+    let visible: Vec<(Vec3, f32)> = (0..image.height)
         .into_par_iter()
-        .fold(
-            || vec![false; n],
-            |mut out, y| {
-                for x in 0..image.width {
-                    for k in 0..PROBES * PROBES {
-                        let (i, j) = ((k % PROBES) as f32, (k / PROBES) as f32);
-                        let step = 1.0 / PROBES as f32;
-                        let px = x as f32 + (i + 0.5) * step;
-                        let py = y as f32 + (j + 0.5) * step;
-                        let (origin, dir) = proj.primary_ray(px, py);
-                        let Some(hit) = world.intersect(origin, dir, f32::INFINITY) else {
-                            continue;
-                        };
-                        let patch = world.patch(hit.diffuse.map_or(hit.triangle, |d| d.0));
-                        near.mark_within(mesh, hit.point, 2.0 * near.reach(patch), &mut out);
-                    }
-                }
-                out
-            },
-        )
-        .reduce(|| vec![false; n], union);
-    let wanted = (0..n)
-        .into_par_iter()
+        .flat_map_iter(|y| {
+            let proj = &proj;
+            (0..image.width * PROBES * PROBES).filter_map(move |k| {
+                let (x, sub) = (k / (PROBES * PROBES), k % (PROBES * PROBES));
+                let step = 1.0 / PROBES as f32;
+                let px = x as f32 + ((sub % PROBES) as f32 + 0.5) * step;
+                let py = y as f32 + ((sub / PROBES) as f32 + 0.5) * step;
+                let (origin, dir) = proj.primary_ray(px, py);
+                let hit = world.intersect(origin, dir, f32::INFINITY)?;
+                let patch = world.patch(hit.diffuse.map_or(hit.triangle, |d| d.0));
+                Some((hit.point, 2.0 * near.reach(patch)))
+            })
+        })
+        .collect();
+    let seen = mark(mesh, near, visible);
+    let around: Vec<(Vec3, f32)> = (0..mesh.element_count())
         .filter(|&e| seen[e])
-        .fold(
-            || vec![false; n],
-            |mut out, e| {
-                let node = mesh.element(e);
-                let (centre, radius): (Vec3, f32) = node.sphere();
-                near.mark_within(mesh, centre, near.reach(node.patch) + radius, &mut out);
-                out
-            },
-        )
-        .reduce(|| vec![false; n], union);
-    Some(wanted)
+        .map(|e| {
+            let (centre, radius) = mesh.element(e).sphere();
+            (centre, near.reach(mesh.element(e).patch) + radius)
+        })
+        .collect();
+    Some(mark(mesh, near, around))
+}
+
+/// The elements within distance d of some ball (point, d) of `balls`. Balls are merged first
+/// into cells of a grid of side d/2 (d rounded up to a power of 2^¼), each queried once with
+/// its cell's half-diagonal added: a superset, at a cost bounded by the space they cover, not
+/// by their number.
+fn mark(mesh: &Mesh, near: &NearField, balls: Vec<(Vec3, f32)>) -> Vec<bool> {
+    let mut cells: Vec<(i32, [i32; 3])> = balls
+        .into_iter()
+        .filter(|(p, d)| p.is_finite() && *d > 0.0)
+        .map(|(p, d)| {
+            let level = (d.log2() * 4.0).ceil() as i32;
+            let side = 0.5 * rounded(level);
+            let cell = (p / side).floor();
+            (level, [cell.x as i32, cell.y as i32, cell.z as i32])
+        })
+        .collect();
+    cells.sort_unstable();
+    cells.dedup();
+    let ranges: Vec<Range<u32>> = cells
+        .par_iter()
+        .flat_map_iter(|&(level, [x, y, z])| {
+            let d = rounded(level);
+            let side = 0.5 * d;
+            let centre = (Vec3::new(x as f32, y as f32, z as f32) + 0.5) * side;
+            let mut out = Vec::new();
+            near.within(mesh, centre, d + 0.87 * side, &mut out);
+            out
+        })
+        .collect();
+    let mut marked = vec![false; mesh.element_count()];
+    for r in ranges {
+        marked[r.start as usize..r.end as usize].fill(true);
+    }
+    marked
+}
+
+/// 2^(level/4).
+fn rounded(level: i32) -> f32 {
+    (level as f32 / 4.0).exp2()
 }
