@@ -41,7 +41,7 @@ pub(super) const PIECES: usize = 4;
 /// ray ([`NearField::sees`]), and the reach stays where the table put it. The absolute reach
 /// grows with the elements (the furnished room at `--elements 2048`: 1.42 % at reach 3,
 /// 2.18 % at 5).
-const NEAR_REACH: f32 = 5.0;
+pub(super) const NEAR_REACH: f32 = 5.0;
 
 /// A near node below the cut (along a contact line or a shadow) is opened into its children
 /// within this many of its diameters of the point.
@@ -117,6 +117,19 @@ impl NearField {
     /// The near field's reach on patch `patch`.
     pub(super) fn reach(&self, patch: u32) -> f32 {
         self.reach[patch as usize]
+    }
+
+    /// Whether a point within `slack` of `point` may read element `e`'s pieces: it opens the
+    /// element when closer than `OPEN_WITHIN` of its diameters ([`NearField::irradiance_at`]).
+    pub(super) fn opens(&self, mesh: &Mesh, e: usize, point: Vec3, slack: f32) -> bool {
+        let shape = &self.shapes[mesh.elements[e] as usize];
+        shape.centroid.distance(point) < OPEN_WITHIN * shape.diameter + slack
+    }
+
+    /// The centroid and diameter of element `e`.
+    pub(super) fn element_shape(&self, mesh: &Mesh, e: usize) -> (Vec3, f32) {
+        let shape = &self.shapes[mesh.elements[e] as usize];
+        (shape.centroid, shape.diameter)
     }
 
     /// The element ranges (by element index) below the nodes of the cut whose bounding boxes

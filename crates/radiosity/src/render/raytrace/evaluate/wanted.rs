@@ -25,7 +25,7 @@ use std::ops::Range;
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::near_field::NearField;
+use super::near_field::{NearField, NEAR_REACH};
 use crate::mesh::Mesh;
 use crate::render::camera::Projection;
 use crate::render::raytrace::world::World;
@@ -65,7 +65,17 @@ pub(super) fn wanted(
             })
         })
         .collect();
-    let seen = mark(mesh, near, visible);
+    // A visible point reads R at the vertices of its lit-mesh triangle, from elements of its
+    // own surface at most one of their diameters from a vertex, which is within the largest
+    // element diameter of the surface (reach / NEAR_REACH) of the point; and the pieces of
+    // the elements it opens.
+    let seen = mark(mesh, near, visible, |e, point, d, slack| {
+        let (centre, diameter) = near.element_shape(mesh, e);
+        near.opens(mesh, e, point, slack)
+            || centre.distance(point) < 0.5 * d / NEAR_REACH + diameter + slack
+    });
+    // Each seen element's pieces, within its radius of its centre, read the pieces of the
+    // elements they open.
     let around: Vec<(Vec3, f32)> = (0..mesh.element_count())
         .filter(|&e| seen[e])
         .map(|e| {
@@ -73,14 +83,26 @@ pub(super) fn wanted(
             (centre, near.reach(mesh.element(e).patch) + radius)
         })
         .collect();
-    Some(mark(mesh, near, around))
+    let radius = (0..mesh.element_count())
+        .filter(|&e| seen[e])
+        .map(|e| mesh.element(e).sphere().1)
+        .fold(0.0, f32::max);
+    Some(mark(mesh, near, around, |e, point, _, slack| {
+        near.opens(mesh, e, point, slack + radius)
+    }))
 }
 
-/// The elements within distance d of some ball (point, d) of `balls`. Balls are merged first
-/// into cells of a grid of side d/2 (d rounded up to a power of 2^¼), each queried once with
-/// its cell's half-diagonal added: a superset, at a cost bounded by the space they cover, not
-/// by their number.
-fn mark(mesh: &Mesh, near: &NearField, balls: Vec<(Vec3, f32)>) -> Vec<bool> {
+/// The elements that `keep(e, point, d, slack)` accepts among those within distance d of some
+/// ball (point, d) of `balls`, `slack` what the merging below adds to the distance. Balls are
+/// merged into cells of a grid of side d/2 (d rounded up to a power of 2^¼), each queried once
+/// with its cell's half-diagonal as the slack: a superset, at a cost bounded by the space
+/// they cover, not by their number.
+fn mark(
+    mesh: &Mesh,
+    near: &NearField,
+    balls: Vec<(Vec3, f32)>,
+    keep: impl Fn(usize, Vec3, f32, f32) -> bool + Sync,
+) -> Vec<bool> {
     let mut cells: Vec<(i32, [i32; 3])> = balls
         .into_iter()
         .filter(|(p, d)| p.is_finite() && *d > 0.0)
@@ -93,20 +115,25 @@ fn mark(mesh: &Mesh, near: &NearField, balls: Vec<(Vec3, f32)>) -> Vec<bool> {
         .collect();
     cells.sort_unstable();
     cells.dedup();
-    let ranges: Vec<Range<u32>> = cells
+    let kept: Vec<u32> = cells
         .par_iter()
         .flat_map_iter(|&(level, [x, y, z])| {
             let d = rounded(level);
             let side = 0.5 * d;
             let centre = (Vec3::new(x as f32, y as f32, z as f32) + 0.5) * side;
-            let mut out = Vec::new();
-            near.within(mesh, centre, d + 0.87 * side, &mut out);
-            out
+            let slack = 0.87 * side;
+            let mut ranges: Vec<Range<u32>> = Vec::new();
+            near.within(mesh, centre, d + slack, &mut ranges);
+            ranges
+                .into_iter()
+                .flatten()
+                .filter(|&e| keep(e as usize, centre, d, slack))
+                .collect::<Vec<u32>>()
         })
         .collect();
     let mut marked = vec![false; mesh.element_count()];
-    for r in ranges {
-        marked[r.start as usize..r.end as usize].fill(true);
+    for e in kept {
+        marked[e as usize] = true;
     }
     marked
 }
