@@ -8,8 +8,8 @@
 #   scripts read its [camera] as our renderer does.
 #   REFERENCE: .exr or .pfm (e.g. benches/image/reference/cornell_256.pfm), of the image size.
 #   Environment: WIDTH, HEIGHT (image size; default the scene's [render] size, else 512),
-#   BIN (default target/release/radiosity), PY (a Python with mitsuba and numpy: /work/venv),
-#   BPY (a Python 3.11 with bpy==5.0.1 and mitsuba: /work/bpyenv).
+#   BIN (default target/release/radiosity), PY (a Python with mitsuba and numpy; default python3),
+#   BPY (a Python 3.11 with bpy==5.0.1 and mitsuba; required for the Cycles rows).
 # The reference comes from benches/image/reference.py (Mitsuba, seeds 0, 1000, ..., 7000); Mitsuba's rows here use
 # seed 1. Times are wall-clock of the render alone for Cycles (bpy.ops.render.render: scene sync,
 # BVH, sampling, denoising, file write) and Mitsuba (mi.render, JIT compilation included; scene
@@ -24,8 +24,8 @@ if [[ ! -f $scene && -f $here/../../scenes/$scene/scene.toml ]]; then
   scene=$here/../../scenes/$scene/scene.toml
 fi
 BIN=${BIN:-target/release/radiosity}
-PY=${PY:-/work/venv/bin/python}
-BPY=${BPY:-/work/bpyenv/bin/python}
+PY=${PY:-python3}
+BPY=${BPY:-python3.11}
 export DRJIT_LIBLLVM_PATH=${DRJIT_LIBLLVM_PATH:-/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1}
 size=()
 [[ -n ${WIDTH:-} ]] && size+=(--width "$WIDTH")

@@ -47,7 +47,7 @@ const CONFIGURATIONS: [(&str, &[&str]); 10] = [
         &["--mode", "radiosity", "--display", "averaged"],
     ),
     (
-        "--mode radiosity --display averaged --samples 4 (before 3 December)",
+        "--mode radiosity --display averaged --samples 4 (the interpolated picture at its coarsest)",
         &[
             "--mode",
             "radiosity",
