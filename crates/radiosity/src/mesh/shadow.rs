@@ -419,6 +419,12 @@ mod tests {
         if occluder {
             polygons.push(square(0.5, 0.1, 2, 0, false));
         }
+        lit(["floor", "lamp", "occluder"], polygons)
+    }
+
+    /// A scene of `polygons` on three named objects, with a grey material 0 and a lamp's
+    /// material 1 (emission 10).
+    fn lit(names: [&str; 3], polygons: Vec<Polygon>) -> Scene {
         Scene {
             materials: vec![
                 Material::default(),
@@ -427,9 +433,7 @@ mod tests {
                     ..Material::default()
                 },
             ],
-            objects: ["floor", "lamp", "occluder"]
-                .map(|name| Object { name: name.into() })
-                .into(),
+            objects: names.map(|name| Object { name: name.into() }).into(),
             polygons,
             ..Scene::default()
         }
@@ -523,18 +527,9 @@ mod tests {
                 centre + 0.3 * (t.cos() * u + t.sin() * v)
             })
             .collect();
-        Scene {
-            materials: vec![
-                Material::default(),
-                Material {
-                    emission: Rgb::splat(10.0),
-                    ..Material::default()
-                },
-            ],
-            objects: ["floor", "wall", "lamp"]
-                .map(|name| Object { name: name.into() })
-                .into(),
-            polygons: vec![
+        lit(
+            ["floor", "wall", "lamp"],
+            vec![
                 polygon(floor, Vec3::Y, 0, 0),
                 wall((0.0, 0.4), (-1.0, 1.0)),
                 wall((0.8, 1.0), (-1.0, 1.0)),
@@ -542,8 +537,7 @@ mod tests {
                 wall((0.4, 0.8), (0.3, 1.0)),
                 polygon(disc, normal, 2, 1),
             ],
-            ..Scene::default()
-        }
+        )
     }
 
     #[test]

@@ -145,12 +145,8 @@ impl Clusters {
         let polygon = |f: u32| mesh.patches[mesh.nodes[f as usize].patch as usize].polygon;
         let mut by_polygon = faces.clone();
         by_polygon.sort_by_key(|&f| (polygon(f), f));
-        let polygons = mesh
-            .triangle_polygon
-            .iter()
-            .max()
-            .map_or(0, |&p| p as usize + 1);
-        let polygons = polygons.max(by_polygon.last().map_or(0, |&f| polygon(f) as usize + 1));
+        // Polygons past the last one with a root face have none ([`Clusters::roots_of`]).
+        let polygons = by_polygon.last().map_or(0, |&f| polygon(f) as usize + 1);
         out.polygon_start = (0..=polygons as u32)
             .map(|p| by_polygon.partition_point(|&f| polygon(f) < p) as u32)
             .collect();

@@ -542,8 +542,8 @@ impl State {
 /// either end (zero between two faces, which need no direction, and for an unresolved pair,
 /// which has none: [`resolved`]).
 fn direction(mesh: &Mesh, clusters: &Clusters, receiver: Handle, source: Handle) -> DVec3 {
-    if !resolved(mesh, clusters, receiver, source)
-        || !(source.is_cluster() || receiver.is_cluster())
+    if !(source.is_cluster() || receiver.is_cluster())
+        || !resolved(mesh, clusters, receiver, source)
     {
         return DVec3::ZERO;
     }

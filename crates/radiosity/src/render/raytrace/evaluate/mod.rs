@@ -308,8 +308,9 @@ fn far_radiosity(
             }
             let node = mesh.element(e);
             let patch = &mesh.patches[node.patch as usize];
-            if let (Some(false), Some(h)) = (wanted.map(|w| w[e]), reflected) {
-                let indirect = patch.reflectance * h[e] / open[e].max(MIN_OPEN);
+            // B_i over the element's open part, from the solution's reflected light.
+            let reflected = reflected.map(|h| patch.reflectance * h[e] / open[e].max(MIN_OPEN));
+            if let (Some(false), Some(indirect)) = (wanted.map(|w| w[e]), reflected) {
                 return Far {
                     far: indirect,
                     scale: Rgb::ONE,
@@ -332,10 +333,8 @@ fn far_radiosity(
                 by_pieces |= p;
             }
             let (lit, near, share) = (lit / area, near / area, share / area);
-            let indirect = match reflected {
-                Some(h) => patch.reflectance * h[e],
-                None => radiosity[e] - patch.emission - lit,
-            } / open[e].max(MIN_OPEN);
+            let indirect = reflected
+                .unwrap_or_else(|| (radiosity[e] - patch.emission - lit) / open[e].max(MIN_OPEN));
             let left = (1.0 - share).max(MIN_FAR_SHARE);
             let (mut far, mut scale) = (Rgb::ZERO, Rgb::ONE);
             for c in 0..3 {

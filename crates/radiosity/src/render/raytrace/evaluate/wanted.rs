@@ -76,17 +76,13 @@ pub(super) fn wanted(
     });
     // Each seen element's pieces, within its radius of its centre, read the pieces of the
     // elements they open.
-    let around: Vec<(Vec3, f32)> = (0..mesh.element_count())
-        .filter(|&e| seen[e])
-        .map(|e| {
-            let (centre, radius) = mesh.element(e).sphere();
-            (centre, near.reach(mesh.element(e).patch) + radius)
-        })
-        .collect();
-    let radius = (0..mesh.element_count())
-        .filter(|&e| seen[e])
-        .map(|e| mesh.element(e).sphere().1)
-        .fold(0.0, f32::max);
+    let (mut around, mut radius) = (Vec::new(), 0.0f32);
+    for e in (0..mesh.element_count()).filter(|&e| seen[e]) {
+        let node = mesh.element(e);
+        let (centre, r) = node.sphere();
+        around.push((centre, near.reach(node.patch) + r));
+        radius = radius.max(r);
+    }
     Some(mark(mesh, near, around, |e, point, _, slack| {
         near.opens(mesh, e, point, slack + radius)
     }))
