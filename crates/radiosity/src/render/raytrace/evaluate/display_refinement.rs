@@ -100,7 +100,8 @@ pub fn lit_mesh(
     settings: &Settings,
     watch: &Watch,
 ) -> Option<LitMesh> {
-    let (evaluation, averaged, far) = prepare(scene, mesh, solution, settings.shadow_samples, None);
+    let (evaluation, averaged, far) =
+        prepare(scene, mesh, solution, settings.shadow_samples, None, watch)?;
     let world = World::new(scene, mesh, &far);
     let refiner = Refiner {
         world: &world,

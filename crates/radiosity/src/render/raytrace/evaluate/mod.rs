@@ -38,7 +38,8 @@
 //! mean), F(x → s) Lambert's exact factor to the node times the visibility of its centroid
 //! (one shadow ray: a thin wall, such as a lamp housing lit inside, hides what lies behind it;
 //! the point's own polygon, its back twin included, sends nothing; beyond two of the node's
-//! diameters the point kernel A cosθ cosθ' / (π r²), `near_factor` in `near_field.rs`),
+//! diameters the point kernel A cosθ cosθ' / (π r²), `near_factor` in `near_field/mod.rs`;
+//! nodes far from the point beside their size summed in clusters, `near_field/clusters.rs`),
 //! w a weight falling from 1 to 0 between half and the whole of the reach
 //! (`NEAR_REACH` diameters of the largest element of the point's surface: one reach for all
 //! the patches whose lit-mesh vertices R is interpolated over, or a slightly non-planar quad,
@@ -103,10 +104,14 @@ use super::{trace_image, RaytraceSettings, Watch};
 use crate::accel::Bvh;
 use crate::formfactor::exposure;
 use crate::mesh::{display, LitMesh, Mesh};
+use crate::progress::{Batched, Work};
 use crate::render::{Image, RasterSettings};
 use crate::scene::Camera;
 use crate::solve::Solution;
 use crate::{Rgb, Scene};
+
+/// Elements settled per report to the progress.
+const SETTLED_BATCH: u64 = 256;
 
 /// The far part's radiosity is divided by the share of the view left to it; never by less.
 const MIN_FAR_SHARE: f64 = 0.05;
@@ -152,7 +157,9 @@ impl Evaluation {
     }
 
     /// The far part R of every element's indirect light and B − E at its pieces (see
-    /// [`far_radiosity`]), the pieces then shown to the near field.
+    /// [`far_radiosity`]), the pieces then shown to the near field. Reported to `watch` as the
+    /// stage "near field": the wanted elements, twice (the two passes); `None` if stopped.
+    #[allow(clippy::too_many_arguments)]
     fn settle(
         &mut self,
         world: &World,
@@ -161,7 +168,12 @@ impl Evaluation {
         open: &[f64],
         samples: u32,
         wanted: Option<&[bool]>,
-    ) -> Vec<Rgb> {
+        watch: &Watch,
+    ) -> Option<Vec<Rgb>> {
+        let count = wanted.map_or(mesh.element_count(), |w| w.iter().filter(|&&w| w).count());
+        watch
+            .progress
+            .start("near field", Work::of(2 * count as u64, "elements"));
         let direct: Vec<[Rgb; PIECES]> = (0..mesh.element_count())
             .into_par_iter()
             .map(|e| {
@@ -184,20 +196,36 @@ impl Evaluation {
             })
             .collect();
         let solution = (radiosity, reflected);
-        let first = far_radiosity(mesh, solution, open, &self.near, &direct, (None, wanted));
+        let first = far_radiosity(
+            mesh,
+            solution,
+            open,
+            (&self.near, &direct),
+            (None, wanted),
+            watch,
+        );
+        if watch.stopped() {
+            watch.progress.cut_short();
+            return None;
+        }
         self.near.values = first.iter().map(|f| f.pieces).collect();
         let first: Vec<Option<Far>> = first.iter().map(|f| (!f.by_pieces).then_some(*f)).collect();
         let split = far_radiosity(
             mesh,
             solution,
             open,
-            &self.near,
-            &direct,
+            (&self.near, &direct),
             (Some(&first), wanted),
+            watch,
         );
+        watch.progress.tally(count as u64, "elements");
+        watch.progress.end(watch.stopped());
+        if watch.stopped() {
+            return None;
+        }
         let scale: Vec<Rgb> = split.iter().map(|f| f.scale).collect();
         self.scale = display::lit_mesh_faceted(mesh, &scale, None).radiosity;
-        split.iter().map(|f| f.far).collect()
+        Some(split.iter().map(|f| f.far).collect())
     }
 }
 
@@ -215,7 +243,8 @@ pub fn render(
     watch: &Watch,
 ) -> Option<Image> {
     let view = Some((camera, image));
-    let (evaluation, _, lit) = prepare(scene, mesh, solution, settings.shadow_samples, view);
+    let (evaluation, _, lit) =
+        prepare(scene, mesh, solution, settings.shadow_samples, view, watch)?;
     let world = World::new(scene, mesh, &lit);
     trace_image(&world, Some(&evaluation), camera, image, settings, watch)
 }
@@ -224,14 +253,16 @@ pub fn render(
 /// settled on the pieces, the solution's lit mesh (averaged), and the lit mesh of the far part
 /// R with its border vertices extrapolated. The two lit meshes have the same triangles. With a
 /// `view` (camera and image), only the elements its picture can read are settled
-/// ([`wanted`]); without one (the exported mesh), all.
+/// ([`wanted`]); without one (the exported mesh), all. Reported to `watch` as the stage
+/// "near field", in elements settled; `None` if its stop flag was set.
 fn prepare(
     scene: &Scene,
     mesh: &Mesh,
     solution: &Solution,
     samples: u32,
     view: Option<(&Camera, &RasterSettings)>,
-) -> (Evaluation, LitMesh, LitMesh) {
+    watch: &Watch,
+) -> Option<(Evaluation, LitMesh, LitMesh)> {
     let radiosity = &solution.radiosity;
     let mut evaluation = Evaluation {
         luminaires: Luminaires::new(mesh),
@@ -255,9 +286,10 @@ fn prepare(
         &open,
         samples,
         wanted.as_deref(),
-    );
+        watch,
+    )?;
     let lit = display::lit_mesh_faceted(mesh, &far, Some(&open));
-    (evaluation, full, lit)
+    Some((evaluation, full, lit))
 }
 
 /// An element's split of its indirect light (see [`far_radiosity`]).
@@ -296,15 +328,27 @@ fn far_radiosity(
     mesh: &Mesh,
     (radiosity, reflected): (&[Rgb], Option<&[Rgb]>),
     open: &[f64],
-    near_field: &NearField,
-    direct: &[[Rgb; PIECES]],
+    (near_field, direct): (&NearField, &[[Rgb; PIECES]]),
     (known, wanted): (Option<&[Option<Far>]>, Option<&[bool]>),
+    watch: &Watch,
 ) -> Vec<Far> {
-    (0..mesh.element_count())
+    let settled = Batched::new(watch.progress, SETTLED_BATCH);
+    let far = (0..mesh.element_count())
         .into_par_iter()
         .map(|e| {
+            if wanted.is_none_or(|w| w[e]) {
+                settled.one();
+            }
             if let Some(far) = known.and_then(|k| k[e]) {
                 return far;
+            }
+            if watch.stopped() {
+                return Far {
+                    far: Rgb::ZERO,
+                    scale: Rgb::ONE,
+                    pieces: [Rgb::ZERO; PIECES],
+                    by_pieces: false,
+                };
             }
             let node = mesh.element(e);
             let patch = &mesh.patches[node.patch as usize];
@@ -354,7 +398,9 @@ fn far_radiosity(
                 by_pieces,
             }
         })
-        .collect()
+        .collect();
+    drop(settled);
+    far
 }
 
 #[cfg(test)]
@@ -435,7 +481,8 @@ vertices = [[-0.3, 2, -0.4], [0.3, 2, -0.4], [0.3, 2, 0.4], [-0.3, 2, 0.4]]
         let (scene, mesh) = (&solved.scene, &solved.mesh);
         let floor = mesh.patches.iter().filter(|p| p.object == 0).count();
         assert_eq!(floor, 2, "the folded floor is two patches");
-        let (evaluation, _, lit) = prepare(scene, mesh, &solved.solution, 16, None);
+        let (evaluation, _, lit) =
+            prepare(scene, mesh, &solved.solution, 16, None, &Watch::SILENT).unwrap();
         let world = World::new(scene, mesh, &lit);
         let radiance = |x: f32, z: f32| {
             let eye = Vec3::new(x, 0.5, z);
@@ -507,7 +554,8 @@ vertices = [[19, 0, 1], [21, 0, 1], [21, 0, -1], [19, 0, -1]]
             samples_per_pixel: 4,
         };
         let raytrace = RaytraceSettings::default();
-        let (evaluation, full, lit) = prepare(scene, mesh, solution, 16, None);
+        let (evaluation, full, lit) =
+            prepare(scene, mesh, solution, 16, None, &Watch::SILENT).unwrap();
         let world = World::new(scene, mesh, &full);
         let wanted = wanted::wanted(scene, &world, mesh, &evaluation.near, (&camera, &image))
             .expect("no mirrors");
@@ -565,7 +613,17 @@ vertices = [[19, 0, 1], [21, 0, 1], [21, 0, -1], [19, 0, -1]]
             scale: Vec::new(),
         };
         let open = vec![1.0; mesh.element_count()];
-        let far = evaluation.settle(&world, &mesh, (&radiosity, None), &open, 16, None);
+        let far = evaluation
+            .settle(
+                &world,
+                &mesh,
+                (&radiosity, None),
+                &open,
+                16,
+                None,
+                &Watch::SILENT,
+            )
+            .unwrap();
         let mut clamped = 0;
         for e in 0..mesh.element_count() {
             let at = &evaluation.near.pieces[e];

@@ -4,12 +4,17 @@
 //! [`super`]), and the pieces right next to the point into quarters whose values follow the
 //! slope of their element's pieces, a linear reconstruction that keeps each piece's mean
 //! ([`split_piece`]): across a crease the light of the other surface changes fastest where the
-//! point weighs it most.
+//! point weighs it most. Nodes far from the point compared with their size are taken in
+//! clusters, one source each ([`clusters`]), so that the work at a point follows the surfaces
+//! around it rather than the count of nodes within its reach.
+
+mod clusters;
 
 use std::ops::Range;
 
 use glam::Vec3;
 
+use self::clusters::Clusters;
 use crate::accel::{Aabb, Bvh, Ray};
 use crate::formfactor::analytic::point_to_polygon;
 use crate::mesh::{display, Face, Mesh};
@@ -78,6 +83,9 @@ pub(super) struct NearField {
     bvh: Bvh,
     /// The nodes of the cut.
     nodes: Vec<u32>,
+    /// The same nodes gathered into clusters, each taken as one source where it is far from
+    /// the point compared with its size ([`clusters`]).
+    clusters: Clusters,
     /// Mean B − E of the elements below each node of the mesh, by node index.
     reflected: Vec<Rgb>,
     /// The centroid, diameter and area of each node's face, by node index (computed once:
@@ -199,6 +207,7 @@ impl NearField {
         }
         Self {
             bvh: Bvh::build(&boxes),
+            clusters: Clusters::build(mesh, &nodes, &reflected),
             nodes,
             reflected,
             shapes,
@@ -238,9 +247,7 @@ impl NearField {
         at
     }
 
-    /// [`NearField::irradiance`] at several points of one patch (an element's pieces), found
-    /// by one query: each point sums the nodes within its reach in the order of the (fixed)
-    /// traversal, as a query of its own would, so the sums are the same to the bit.
+    /// [`NearField::irradiance`] at several points of one patch (an element's pieces).
     pub(super) fn irradiance_at<const K: usize>(
         &self,
         mesh: &Mesh,
@@ -248,109 +255,102 @@ impl NearField {
         normal: Vec3,
         patch: u32,
     ) -> [(Rgb, f64, bool); K] {
-        let mut out = [(Rgb::ZERO, 0.0, false); K];
         let reach = self.reach[patch as usize];
-        if reach <= 0.0 || K == 0 {
-            return out;
-        }
-        let (mut low, mut high) = (points[0], points[0]);
-        for p in &points[1..] {
-            low = low.min(*p);
-            high = high.max(*p);
-        }
-        let query = Aabb {
-            min: low - Vec3::splat(reach),
-            max: high + Vec3::splat(reach),
-        };
         let polygon = mesh.patches[patch as usize].polygon;
-        let mut open = Vec::new();
-        self.bvh.overlapping(&query, |k| {
-            let cut = self.nodes[k];
-            let centroid = self.shapes[cut as usize].centroid;
-            for (point, (sum, share, by_pieces)) in points.iter().zip(&mut out) {
-                let d = centroid.distance(*point) / reach;
+        points.map(|point| {
+            let mut near = (Rgb::ZERO, 0.0, false);
+            if reach <= 0.0 {
+                return near;
+            }
+            let mut open = Vec::new();
+            let sees = |target, target_normal| self.sees(point, normal, target, target_normal);
+            let far = self.clusters.gather(point, normal, reach, sees, |cut| {
+                let d = self.shapes[cut as usize].centroid.distance(point) / reach;
                 if d >= 1.0 {
-                    continue;
+                    return;
                 }
                 let w = f64::from((2.0 - 2.0 * d).clamp(0.0, 1.0));
                 open.push(cut);
                 while let Some(n) = open.pop() {
-                    let shape = &self.shapes[n as usize];
-                    let node = &mesh.nodes[n as usize];
-                    // A planar polygon sends nothing to its own points, on either side: its
-                    // back twin lies in the point's plane, and the rounding of a hit point
-                    // can put the point a hair in front of it.
-                    if !in_front(shape, *point)
-                        || mesh.patches[node.patch as usize].polygon == polygon
-                    {
-                        continue;
-                    }
-                    let opened = shape.centroid.distance(*point) < OPEN_WITHIN * shape.diameter;
-                    match node.children {
-                        Some(c) if opened => open.extend(c..c + 4),
-                        None if opened && !self.values.is_empty() => {
-                            *by_pieces = true;
-                            let e = node.elements.start as usize;
-                            let (at, values) = (&self.pieces[e], &self.values[e]);
-                            let slope = Slope::fit(at, values, shape.normal);
-                            for (k, value) in values.iter().enumerate() {
-                                let piece = Shape {
-                                    centroid: at.centroids[k],
-                                    diameter: at.diameter,
-                                    area: at.areas[k],
-                                    normal: shape.normal,
-                                };
-                                let near =
-                                    piece.centroid.distance(*point) < SPLIT_WITHIN * piece.diameter;
-                                if near && slope.steep(*value, piece.diameter) {
-                                    if !self.sees(*point, normal, piece.centroid, shape.normal) {
-                                        continue;
-                                    }
-                                    let face = pieces(&node.face)[k];
-                                    let (s, f) = split_piece(
-                                        (&face, shape.normal),
-                                        *value,
-                                        &slope,
-                                        (*point, normal),
-                                        SPLIT_DEPTH,
-                                    );
-                                    *sum += s * w;
-                                    *share += w * f;
-                                } else {
-                                    let f = near_factor(
-                                        || pieces(&node.face)[k],
-                                        &piece,
-                                        *point,
-                                        normal,
-                                    );
-                                    if f <= 0.0
-                                        || !self.sees(*point, normal, piece.centroid, shape.normal)
-                                    {
-                                        continue;
-                                    }
-                                    *sum += *value * (w * f);
-                                    *share += w * f;
-                                }
-                            }
+                    self.add_node(mesh, n, w, (point, normal, polygon), &mut open, &mut near);
+                }
+            });
+            let (sum, share, by_pieces) = near;
+            (sum + far.sum, (share + far.share).min(1.0), by_pieces)
+        })
+    }
+
+    /// Adds node `n` of weight `w` to the near field `(sum, share, by_pieces)` of `point`
+    /// (unit normal `normal`, on polygon `polygon`): Lambert's factor or the point kernel to
+    /// it, to its pieces (an element next to the point, once their values are known), or its
+    /// children pushed on `open` (a node above the elements next to the point).
+    fn add_node(
+        &self,
+        mesh: &Mesh,
+        n: u32,
+        w: f64,
+        (point, normal, polygon): (Vec3, Vec3, u32),
+        open: &mut Vec<u32>,
+        (sum, share, by_pieces): &mut (Rgb, f64, bool),
+    ) {
+        let shape = &self.shapes[n as usize];
+        let node = &mesh.nodes[n as usize];
+        // A planar polygon sends nothing to its own points, on either side: its back twin lies
+        // in the point's plane, and the rounding of a hit point can put the point a hair in
+        // front of it.
+        if !in_front(shape, point) || mesh.patches[node.patch as usize].polygon == polygon {
+            return;
+        }
+        let opened = shape.centroid.distance(point) < OPEN_WITHIN * shape.diameter;
+        match node.children {
+            Some(c) if opened => open.extend(c..c + 4),
+            None if opened && !self.values.is_empty() => {
+                *by_pieces = true;
+                let e = node.elements.start as usize;
+                let (at, values) = (&self.pieces[e], &self.values[e]);
+                let slope = Slope::fit(at, values, shape.normal);
+                for (k, value) in values.iter().enumerate() {
+                    let piece = Shape {
+                        centroid: at.centroids[k],
+                        diameter: at.diameter,
+                        area: at.areas[k],
+                        normal: shape.normal,
+                    };
+                    let near = piece.centroid.distance(point) < SPLIT_WITHIN * piece.diameter;
+                    if near && slope.steep(*value, piece.diameter) {
+                        if !self.sees(point, normal, piece.centroid, shape.normal) {
+                            continue;
                         }
-                        _ => {
-                            let f = near_factor(|| node.face, shape, *point, normal);
-                            if f <= 0.0 || !self.sees(*point, normal, shape.centroid, shape.normal)
-                            {
-                                continue;
-                            }
-                            *by_pieces |= opened;
-                            *sum += self.reflected[n as usize] * (w * f);
-                            *share += w * f;
+                        let face = pieces(&node.face)[k];
+                        let (s, f) = split_piece(
+                            (&face, shape.normal),
+                            *value,
+                            &slope,
+                            (point, normal),
+                            SPLIT_DEPTH,
+                        );
+                        *sum += s * w;
+                        *share += w * f;
+                    } else {
+                        let f = near_factor(|| pieces(&node.face)[k], &piece, point, normal);
+                        if f <= 0.0 || !self.sees(point, normal, piece.centroid, shape.normal) {
+                            continue;
                         }
+                        *sum += *value * (w * f);
+                        *share += w * f;
                     }
                 }
             }
-        });
-        for (_, share, _) in &mut out {
-            *share = share.min(1.0);
+            _ => {
+                let f = near_factor(|| node.face, shape, point, normal);
+                if f <= 0.0 || !self.sees(point, normal, shape.centroid, shape.normal) {
+                    return;
+                }
+                *by_pieces |= opened;
+                *sum += self.reflected[n as usize] * (w * f);
+                *share += w * f;
+            }
         }
-        out
     }
 }
 
