@@ -298,6 +298,12 @@ impl<'a> World<'a> {
         self.lit.triangle_patch[t as usize]
     }
 
+    /// The corners of lit triangle `t`.
+    #[must_use]
+    pub fn lit_triangle(&self, t: u32) -> [Vec3; 3] {
+        self.lit.triangles[t as usize].map(|v| self.lit.positions[v as usize])
+    }
+
     /// The material of lit triangle `t`.
     ///
     /// # Panics

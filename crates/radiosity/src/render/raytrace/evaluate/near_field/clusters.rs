@@ -56,7 +56,7 @@ const MIXED_RATIO: f32 = 0.1;
 
 /// A cluster across a bend of the near field's weight (half the reach, the reach) is taken
 /// whole only if its bounding radius is at most this share of the reach.
-const BEND_RATIO: f32 = 0.02;
+const BEND_RATIO: f32 = 0.05;
 
 /// A cluster is taken whole only if every node of it lies beyond this many of its own
 /// diameters of the point, where each is seen with the point kernel and none is opened
@@ -491,7 +491,11 @@ subdivisions = 4
             })
             .collect();
         let near = NearField::new(&mesh, &radiosity);
-        assert!(near.nodes.len() > 5000, "{} nodes", near.nodes.len());
+        assert!(
+            near.clusters.nodes.len() > 5000,
+            "{} nodes",
+            near.clusters.nodes.len()
+        );
         let reach = 3.0;
         let kernel = |n: u32, point: Vec3, normal: Vec3| {
             let shape = &near.shapes[n as usize];
@@ -512,7 +516,7 @@ subdivisions = 4
             (Vec3::new(0.9, 1.5, -2.0), Vec3::Z),
         ] {
             let (mut every, mut share) = (Rgb::ZERO, 0.0);
-            for &n in &near.nodes {
+            for &n in &near.clusters.nodes {
                 let f = kernel(n, point, normal);
                 every += near.reflected[n as usize] * f;
                 share += f;
@@ -550,9 +554,9 @@ subdivisions = 4
                 );
             }
             assert!(
-                opened < near.nodes.len() / 10,
+                opened < near.clusters.nodes.len() / 10,
                 "{point}: {opened} of {} nodes opened one by one",
-                near.nodes.len()
+                near.clusters.nodes.len()
             );
         }
     }

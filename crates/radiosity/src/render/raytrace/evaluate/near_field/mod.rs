@@ -10,12 +10,10 @@
 
 mod clusters;
 
-use std::ops::Range;
-
 use glam::Vec3;
 
 use self::clusters::Clusters;
-use crate::accel::{Aabb, Bvh, Ray};
+use crate::accel::{Bvh, Ray};
 use crate::formfactor::analytic::point_to_polygon;
 use crate::mesh::{display, Face, Mesh};
 use crate::Rgb;
@@ -78,13 +76,8 @@ const EXACT_WITHIN: f32 = 2.0;
 /// radiosity B − E.
 #[derive(Debug)]
 pub(super) struct NearField {
-    /// One degenerate triangle per node of the cut, from one corner of the node's bounding box
-    /// to the opposite one, so that box queries find each node once.
-    bvh: Bvh,
-    /// The nodes of the cut.
-    nodes: Vec<u32>,
-    /// The same nodes gathered into clusters, each taken as one source where it is far from
-    /// the point compared with its size ([`clusters`]).
+    /// The nodes of the cut gathered into clusters, each taken as one source where it is far
+    /// from the point compared with its size ([`clusters`]).
     clusters: Clusters,
     /// Mean B − E of the elements below each node of the mesh, by node index.
     reflected: Vec<Rgb>,
@@ -122,41 +115,17 @@ impl Pieces {
 }
 
 impl NearField {
-    /// The near field's reach on patch `patch`.
-    pub(super) fn reach(&self, patch: u32) -> f32 {
-        self.reach[patch as usize]
-    }
-
-    /// Whether a point within `slack` of `point` may read element `e`'s pieces: it opens the
-    /// element when closer than `OPEN_WITHIN` of its diameters ([`NearField::irradiance_at`]).
-    pub(super) fn opens(&self, mesh: &Mesh, e: usize, point: Vec3, slack: f32) -> bool {
-        let shape = &self.shapes[mesh.elements[e] as usize];
-        shape.centroid.distance(point) < OPEN_WITHIN * shape.diameter + slack
+    /// How close to its centroid a point reads the pieces of an element of diameter
+    /// `diameter`: it opens the element within `OPEN_WITHIN` of its diameters
+    /// ([`NearField::irradiance_at`]).
+    pub(super) fn open_radius(&self, diameter: f32) -> f32 {
+        OPEN_WITHIN * diameter
     }
 
     /// The centroid and diameter of element `e`.
     pub(super) fn element_shape(&self, mesh: &Mesh, e: usize) -> (Vec3, f32) {
         let shape = &self.shapes[mesh.elements[e] as usize];
         (shape.centroid, shape.diameter)
-    }
-
-    /// The element ranges (by element index) below the nodes of the cut whose bounding boxes
-    /// come within `distance` of `point` along every axis: a superset of the elements within
-    /// that distance.
-    pub(super) fn within(
-        &self,
-        mesh: &Mesh,
-        point: Vec3,
-        distance: f32,
-        out: &mut Vec<Range<u32>>,
-    ) {
-        let query = Aabb {
-            min: point - Vec3::splat(distance),
-            max: point + Vec3::splat(distance),
-        };
-        self.bvh.overlapping(&query, |k| {
-            out.push(mesh.nodes[self.nodes[k] as usize].elements.clone());
-        });
     }
 
     pub(super) fn new(mesh: &Mesh, radiosity: &[Rgb]) -> Self {
@@ -190,25 +159,19 @@ impl NearField {
                 normal: mesh.patches[node.patch as usize].normal,
             })
             .collect();
-        let (mut boxes, mut nodes) = (Vec::new(), Vec::new());
+        let mut nodes = Vec::new();
         for (p, roots) in mesh.roots.iter().enumerate() {
             let mut stack: Vec<u32> = roots.clone().collect();
             while let Some(n) = stack.pop() {
                 let node = &mesh.nodes[n as usize];
                 match node.children {
                     Some(c) if node.level < uniform[p] => stack.extend(c..c + 4),
-                    _ => {
-                        nodes.push(n);
-                        let b = Aabb::from_points(node.face.corners());
-                        boxes.push([b.min, b.max, b.min]);
-                    }
+                    _ => nodes.push(n),
                 }
             }
         }
         Self {
-            bvh: Bvh::build(&boxes),
             clusters: Clusters::build(mesh, &nodes, &reflected),
-            nodes,
             reflected,
             shapes,
             reach,
