@@ -77,6 +77,13 @@ impl View<'_> {
     /// handle `h`: on the side of a root face facing the ray that `h` holds or, for a
     /// quadtree node, within its face.
     fn lands_on(&self, h: Handle, polygon: u32, at: Vec3, dir: Vec3) -> bool {
+        // A point outside h's bounding sphere is on none of its faces: most rays land far from
+        // a small source on a polygon cut into thousands of root faces (the staircase's walls
+        // and ceiling), whose search below would cost a test per root face.
+        let (centre, radius) = self.sphere(h);
+        if at.distance(centre) > radius * (1.0 + 1e-4) + 2.0 * self.lift {
+            return false;
+        }
         let root = self.clusters.roots_of(polygon).iter().copied().find(|&f| {
             let node = &self.mesh.nodes[f as usize];
             self.mesh.patches[node.patch as usize].normal.dot(dir) < 0.0 && within(&node.face, at)
