@@ -123,7 +123,15 @@ fn a_piped_render_says_each_stage_with_its_counts_and_seconds() {
     let stages: Vec<&str> = done.iter().map(|s| s.stage.as_str()).collect();
     assert_eq!(
         stages,
-        ["meshing", "form factors", "solve", "display", "render"],
+        [
+            "meshing",
+            "form factors",
+            "solve",
+            "evaluation",
+            "display",
+            "evaluation",
+            "render"
+        ],
         "{stderr}"
     );
     let elements = json["elements"].as_u64().expect("elements");
@@ -136,8 +144,11 @@ fn a_piped_render_says_each_stage_with_its_counts_and_seconds() {
         json["solver"]["iterations"].as_u64().unwrap()
     );
     assert_eq!(done[2].count("links"), json["links"].as_u64().unwrap());
-    assert!(done[3].count("vertices") > 0 && done[3].count("triangles") > 0);
-    assert_eq!(done[4].figures, [(24 * 16, "pixels".to_owned())]);
+    // The export settles every element, the picture at most all.
+    assert_eq!(done[3].count("elements"), elements);
+    assert!(done[4].count("vertices") > 0 && done[4].count("triangles") > 0);
+    assert!((1..=elements).contains(&done[5].count("elements")));
+    assert_eq!(done[6].figures, [(24 * 16, "pixels".to_owned())]);
     // Each stage's seconds lie within the run's (rounded to hundredths).
     let total = json["timings"]["total"].as_f64().expect("total");
     assert!(done.iter().all(|s| s.seconds <= total + 0.005), "{stderr}");

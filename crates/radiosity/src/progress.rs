@@ -20,6 +20,8 @@
 //! |                | (iterations), `leaf solve`       |                                    |
 //! | `display`      | levels (the vertices, then each  | vertices, triangles (when          |
 //! |                | round of edge midpoints)         | complete)                          |
+//! | `evaluation`   | elements settled, twice (the     | elements                           |
+//! |                | evaluated picture's two passes)  |                                    |
 //! | `render`       | tiles or bands                   | pixels (when complete)             |
 //!
 //! Work counted one unit at a time from many threads (elements tested, links examined) goes

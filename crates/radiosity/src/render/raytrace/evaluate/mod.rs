@@ -158,7 +158,7 @@ impl Evaluation {
 
     /// The far part R of every element's indirect light and B − E at its pieces (see
     /// [`far_radiosity`]), the pieces then shown to the near field. Reported to `watch` as the
-    /// stage "near field": the wanted elements, twice (the two passes); `None` if stopped.
+    /// stage "evaluation": the wanted elements, twice (the two passes); `None` if stopped.
     #[allow(clippy::too_many_arguments)]
     fn settle(
         &mut self,
@@ -173,7 +173,7 @@ impl Evaluation {
         let count = wanted.map_or(mesh.element_count(), |w| w.iter().filter(|&&w| w).count());
         watch
             .progress
-            .start("near field", Work::of(2 * count as u64, "elements"));
+            .start("evaluation", Work::of(2 * count as u64, "elements"));
         let direct: Vec<[Rgb; PIECES]> = (0..mesh.element_count())
             .into_par_iter()
             .map(|e| {
@@ -254,7 +254,7 @@ pub fn render(
 /// R with its border vertices extrapolated. The two lit meshes have the same triangles. With a
 /// `view` (camera and image), only the elements its picture can read are settled
 /// ([`wanted`]); without one (the exported mesh), all. Reported to `watch` as the stage
-/// "near field", in elements settled; `None` if its stop flag was set.
+/// "evaluation", in elements settled; `None` if its stop flag was set.
 fn prepare(
     scene: &Scene,
     mesh: &Mesh,
