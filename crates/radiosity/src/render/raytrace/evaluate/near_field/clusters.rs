@@ -27,9 +27,10 @@
 //! plane, is what a curved cluster (a cap of a ball) adds; without it a point 1.6 m from a
 //! ball of radius 0.5 got 1.6 % too much of it. The rest, the change of the kernel across the
 //! cluster, is second order in ρ / D about the centroid. That is why a cluster is taken whole
-//! only where every one of its nodes faces the point and lies above the point's horizon
-//! (max(0, ·) is linear only on one side), and, across a bend of the weight w (half the reach,
-//! the reach), only if it is small beside the reach ([`BEND_RATIO`]). One shadow ray, to the
+//! at [`FAR_RATIO`] only where every one of its nodes faces the point (max(0, ·) is linear only
+//! on one side; a cluster across the point's horizon is, its cosine there clamped at zero, as
+//! its nodes next to the horizon send little), and, across a bend of the weight w (half the
+//! reach, the reach), only if it is small beside the reach ([`BEND_RATIO`]). One shadow ray, to the
 //! node nearest its centroid, stands for its visibility. Clusters that no node of can send
 //! anything (all behind the point, all in its plane, all below its horizon, all beyond its
 //! reach) are skipped whole, whatever their distance. A point then visits the clusters of a
@@ -48,10 +49,9 @@ use crate::Rgb;
 /// kernel's change across the cluster is second order in the ratio about its centroid.
 const FAR_RATIO: f32 = 0.2;
 
-/// A cluster across the point's horizon or its own (some nodes facing the point, some not) is
-/// taken whole, its sums clamped at zero, only at a point farther than its bounding radius over
-/// this: the nodes of the silhouette of a curved object and of its base, seen edge on, each
-/// send little, and opened one by one they were most of the work.
+/// A cluster across its own horizon (some nodes facing the point, some not: the silhouette of a
+/// curved object) is taken whole, its sums clamped at zero, only at a point farther than its
+/// bounding radius over this.
 const MIXED_RATIO: f32 = 0.1;
 
 /// A cluster across a bend of the near field's weight (half the reach, the reach) is taken
@@ -311,9 +311,6 @@ impl Cluster {
         if normal.max(Vec3::ZERO).dot(high) + normal.min(Vec3::ZERO).dot(low) <= 0.0 {
             return Seen::Nothing;
         }
-        // Every corner above it: the point's cosine is positive over the whole cluster (the
-        // kernel's max(0, ·) is linear only on one side).
-        let above = normal.max(Vec3::ZERO).dot(low) + normal.min(Vec3::ZERO).dot(high) > 0.0;
         // The range of n_s·(x − c_s) over the nodes: the axis's over the centroids' box,
         // widened by the normals' spread times the farthest centroid.
         let (low, high) = (point - self.centroids.max, point - self.centroids.min);
@@ -330,8 +327,8 @@ impl Cluster {
         let far = self.radius <= FAR_RATIO * distance
             && distance - self.radius >= KERNEL_BEYOND * self.largest
             && (!bent || self.radius <= BEND_RATIO * reach);
-        let one_sided = above && least - slack > 1e-5 * self.largest;
-        if far && (one_sided || self.radius <= MIXED_RATIO * distance) {
+        let facing = least - slack > 1e-5 * self.largest;
+        if far && (facing || self.radius <= MIXED_RATIO * distance) {
             Seen::Whole
         } else {
             Seen::Parts
@@ -514,6 +511,8 @@ subdivisions = 4
             (Vec3::new(1.0, 0.0, -1.0), Vec3::Y),
             (Vec3::new(-1.4, 0.0, 0.3), Vec3::Y),
             (Vec3::new(0.9, 1.5, -2.0), Vec3::Z),
+            // On the ball's side: the floor and the wall across its horizon.
+            (Vec3::new(0.5, 0.6, -1.2), Vec3::X),
         ] {
             let (mut every, mut share) = (Rgb::ZERO, 0.0);
             for &n in &near.clusters.nodes {
