@@ -42,7 +42,7 @@ mod traverse;
 
 pub use box_tree::BoxTree;
 pub use bvh::Bvh;
-pub use node::Aabb;
+pub use node::{largest_axis, Aabb};
 pub use ray::{Hit, Ray};
 
 /// With the `count` feature: nodes and leaves visited by all ray queries so far.

@@ -96,6 +96,19 @@ impl FromIterator<Vec3> for Aabb {
     }
 }
 
+/// The index of `v`'s largest coordinate (the first of equals): the axis of a box's widest
+/// extent, given that extent.
+#[must_use]
+pub fn largest_axis(v: Vec3) -> usize {
+    if v.x >= v.y && v.x >= v.z {
+        0
+    } else if v.y >= v.z {
+        1
+    } else {
+        2
+    }
+}
+
 /// A node: the boxes of its children quantized to 8 bits in the frame of the node's own box
 /// (Ylitie et al. 2017, "Efficient incoherent ray traversal on GPUs through compressed wide
 /// BVHs"; Embree's `QBVH8`), and the child references.

@@ -428,14 +428,7 @@ pub fn axis_weights(v: glam::DVec3) -> [f64; 6] {
 /// The axis (0, 1, 2) along which `points` spread the most.
 fn longest_axis(points: impl Iterator<Item = Vec3>) -> usize {
     let b: Aabb = points.collect();
-    let extent = b.max - b.min;
-    if extent.x >= extent.y && extent.x >= extent.z {
-        0
-    } else if extent.y >= extent.z {
-        1
-    } else {
-        2
-    }
+    crate::accel::largest_axis(b.max - b.min)
 }
 
 /// The vector area A n of a face from its [`axis_weights`].

@@ -15,12 +15,12 @@
 //! opens are settled, and so are those that the pieces of these open, which their second
 //! settling reads. The elements' boxes, widened by the larger of the two distances, go into a
 //! box tree, and each visible point, vertex and piece is one point query: the work follows
-//! the pixels and the elements seen, not the mesh. The visible points are found by 2 × 2 primary rays per
-//! pixel. Every other element gets the cheap split, R = B_i with no near part, which no point
-//! of the picture reads, except where a pixel's own samples find a surface its four probes
-//! missed (along a silhouette): the furnished room at 256² settles 8 826 of its 27 808
-//! elements, and its pixels differ from those of settling all by at most 3·10⁻⁴ of their
-//! value. A scene whose surfaces include mirrors or glass is evaluated
+//! the pixels and the elements seen, not the mesh. The visible points are found by 2 × 2
+//! primary rays per pixel. Every other element gets the cheap split, R = B_i with no near
+//! part, which no point of the picture reads, except where a pixel's own samples find a
+//! surface its four probes missed (along a silhouette): the furnished room at 256² settles
+//! 8 826 of its 27 808 elements, and its pixels differ from those of settling all by at most
+//! 3·10⁻⁴ of their value. A scene whose surfaces include mirrors or glass is evaluated
 //! everywhere: its rays go anywhere.
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -30,7 +30,7 @@ use rayon::prelude::*;
 
 use super::near_field::NearField;
 use crate::accel::{Aabb, Bvh};
-use crate::mesh::{display, Mesh};
+use crate::mesh::Mesh;
 use crate::render::camera::Projection;
 use crate::render::raytrace::world::World;
 use crate::render::RasterSettings;
@@ -86,7 +86,7 @@ pub(super) fn wanted(
     triangles.sort_unstable();
     triangles.dedup();
     let vertices = triangles.iter().flat_map(|&t| {
-        let surface = balls.surfaces[world.patch(t) as usize];
+        let surface = near.surface(world.patch(t));
         world.lit_triangle(t).map(|v| (v, Some(surface)))
     });
     let points: Vec<(Vec3, Option<u32>)> = visible
@@ -103,16 +103,14 @@ pub(super) fn wanted(
 }
 
 /// The elements' centroids and diameters, in a box tree over their boxes widened by the
-/// distance at which a point opens them.
+/// larger of the distance at which a point opens them and [`READ_RINGS`] diameters.
 struct Balls {
     /// One degenerate triangle per element, across its widened box.
     tree: Bvh,
     /// Centroid, diameter and opening distance of each element.
     elements: Vec<(Vec3, f32, f32)>,
-    /// The surface of each element's patch ([`display::surfaces`]), by element.
+    /// The lit-mesh surface of each element's patch, by element.
     element_surface: Vec<u32>,
-    /// The surface of each patch.
-    surfaces: Vec<u32>,
 }
 
 impl Balls {
@@ -130,14 +128,12 @@ impl Balls {
                 [c - r, c + r, c - r]
             })
             .collect();
-        let surfaces = display::surfaces(mesh);
         Self {
             tree: Bvh::build(&boxes),
             elements,
             element_surface: (0..mesh.element_count())
-                .map(|e| surfaces[mesh.element(e).patch as usize])
+                .map(|e| near.surface(mesh.element(e).patch))
                 .collect(),
-            surfaces,
         }
     }
 

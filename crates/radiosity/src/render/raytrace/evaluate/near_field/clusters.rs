@@ -41,7 +41,8 @@
 
 use glam::{DVec3, Vec3};
 
-use crate::accel::Aabb;
+use super::Shape;
+use crate::accel::{largest_axis, Aabb};
 use crate::mesh::Mesh;
 use crate::Rgb;
 
@@ -137,20 +138,20 @@ pub(super) struct Gathered {
 }
 
 impl Clusters {
-    /// The tree over `cut` (node ids of `mesh`), each node with its mean B − E from
-    /// `reflected` (by node id) and its face's `normal` (its patch's).
-    pub(super) fn build(mesh: &Mesh, cut: &[u32], reflected: &[Rgb]) -> Self {
+    /// The tree over `cut` (node ids of `mesh`), each node with its shape from `shapes` and its
+    /// mean B − E from `reflected` (both by node id).
+    pub(super) fn build(mesh: &Mesh, cut: &[u32], shapes: &[Shape], reflected: &[Rgb]) -> Self {
         let mut members: Vec<Member> = cut
             .iter()
             .map(|&n| {
-                let node = &mesh.nodes[n as usize];
+                let shape = &shapes[n as usize];
                 Member {
                     node: n,
-                    centroid: node.centroid(),
-                    normal: mesh.patches[node.patch as usize].normal,
-                    area: node.area(),
-                    diameter: node.diameter(),
-                    bounds: Aabb::from_points(node.face.corners()),
+                    centroid: shape.centroid,
+                    normal: shape.normal,
+                    area: shape.area,
+                    diameter: shape.diameter,
+                    bounds: Aabb::from_points(mesh.nodes[n as usize].face.corners()),
                     reflected: reflected[n as usize],
                 }
             })
@@ -360,17 +361,6 @@ impl Cluster {
             out.sum[c] +=
                 kernel * (-self.vector_reflected[c].dot(w) - self.bulge_reflected[c]).max(0.0);
         }
-    }
-}
-
-/// The index of `v`'s largest coordinate (the first of equals).
-fn largest_axis(v: Vec3) -> usize {
-    if v.x >= v.y && v.x >= v.z {
-        0
-    } else if v.y >= v.z {
-        1
-    } else {
-        2
     }
 }
 

@@ -84,6 +84,8 @@ pub(super) struct NearField {
     /// The centroid, diameter and area of each node's face, by node index (computed once:
     /// every pixel asks).
     shapes: Vec<Shape>,
+    /// The lit-mesh surface of each patch ([`display::surfaces`]).
+    surfaces: Vec<u32>,
     /// The reach per patch: [`NEAR_REACH`] times the largest element diameter of its surface
     /// ([`surface_reach`]).
     reach: Vec<f32>,
@@ -122,6 +124,11 @@ impl NearField {
         OPEN_WITHIN * diameter
     }
 
+    /// The lit-mesh surface of patch `patch` ([`display::surfaces`]).
+    pub(super) fn surface(&self, patch: u32) -> u32 {
+        self.surfaces[patch as usize]
+    }
+
     /// The centroid and diameter of element `e`.
     pub(super) fn element_shape(&self, mesh: &Mesh, e: usize) -> (Vec3, f32) {
         let shape = &self.shapes[mesh.elements[e] as usize];
@@ -130,7 +137,8 @@ impl NearField {
 
     pub(super) fn new(mesh: &Mesh, radiosity: &[Rgb]) -> Self {
         let uniform = mesh.uniform_levels();
-        let reach = surface_reach(mesh);
+        let surfaces = display::surfaces(mesh);
+        let reach = surface_reach(mesh, &surfaces);
         let reflected: Vec<Rgb> = mesh
             .nodes
             .iter()
@@ -149,7 +157,7 @@ impl NearField {
                 }
             })
             .collect();
-        let shapes = mesh
+        let shapes: Vec<Shape> = mesh
             .nodes
             .iter()
             .map(|node| Shape {
@@ -171,9 +179,10 @@ impl NearField {
             }
         }
         Self {
-            clusters: Clusters::build(mesh, &nodes, &reflected),
+            clusters: Clusters::build(mesh, &nodes, &shapes, &reflected),
             reflected,
             shapes,
+            surfaces,
             reach,
             pieces: (0..mesh.element_count())
                 .map(|e| Pieces::of(&mesh.element(e).face))
@@ -330,8 +339,7 @@ impl NearField {
 /// both its N and, through the shared vertices, the other triangle's R changed, and the face
 /// showed a step of 10–25 % along its diagonal where Mitsuba 3 shows none (4 × 4-block RMS of
 /// `benches/corpus/probes/nonplanar-quads` 1.59 → 0.87 %, the planar box 0.94 %).
-fn surface_reach(mesh: &Mesh) -> Vec<f32> {
-    let surfaces = display::surfaces(mesh);
+fn surface_reach(mesh: &Mesh, surfaces: &[u32]) -> Vec<f32> {
     let count = surfaces.iter().map(|&s| s as usize + 1).max().unwrap_or(0);
     let mut largest = vec![0.0f32; count];
     for e in 0..mesh.element_count() {
