@@ -218,11 +218,12 @@ impl Evaluation {
             (Some(&first), wanted),
             watch,
         );
-        watch.progress.tally(count as u64, "elements");
-        watch.progress.end(watch.stopped());
         if watch.stopped() {
+            watch.progress.cut_short();
             return None;
         }
+        watch.progress.tally(count as u64, "elements");
+        watch.progress.finish();
         let scale: Vec<Rgb> = split.iter().map(|f| f.scale).collect();
         self.scale = display::lit_mesh_faceted(mesh, &scale, None).radiosity;
         Some(split.iter().map(|f| f.far).collect())
@@ -306,6 +307,18 @@ struct Far {
     by_pieces: bool,
 }
 
+impl Far {
+    /// All of `indirect` in the far part, no near part.
+    fn flat(indirect: Rgb) -> Self {
+        Self {
+            far: indirect,
+            scale: Rgb::ONE,
+            pieces: [indirect; PIECES],
+            by_pieces: false,
+        }
+    }
+}
+
 /// Every element's split of its indirect light B_i = B − E − ρ Ē_d into the near part and the
 /// far part, the means taken over its pieces (`direct`: ρ E_d at each):
 ///
@@ -343,24 +356,14 @@ fn far_radiosity(
                 return far;
             }
             if watch.stopped() {
-                return Far {
-                    far: Rgb::ZERO,
-                    scale: Rgb::ONE,
-                    pieces: [Rgb::ZERO; PIECES],
-                    by_pieces: false,
-                };
+                return Far::flat(Rgb::ZERO);
             }
             let node = mesh.element(e);
             let patch = &mesh.patches[node.patch as usize];
             // B_i over the element's open part, from the solution's reflected light.
             let reflected = reflected.map(|h| patch.reflectance * h[e] / open[e].max(MIN_OPEN));
             if let (Some(false), Some(indirect)) = (wanted.map(|w| w[e]), reflected) {
-                return Far {
-                    far: indirect,
-                    scale: Rgb::ONE,
-                    pieces: [indirect; PIECES],
-                    by_pieces: false,
-                };
+                return Far::flat(indirect);
             }
             let at = &near_field.pieces[e];
             let mut parts = [(Rgb::ZERO, Rgb::ZERO, 0.0); PIECES];
