@@ -3,7 +3,12 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use radiosity::formfactor;
 use radiosity::io::gltf::VertexColours;
+use radiosity::pipeline::DisplayKind;
+use radiosity::render::ModeKind;
+
+use crate::solver::Solver;
 
 /// Global illumination by radiosity: solve a scene once, then render it from any camera or
 /// export the lit mesh.
@@ -229,8 +234,8 @@ pub struct RenderArgs {
     pub exposure: Option<f32>,
     /// Rendering mode. `final` by default: measured on the Cornell box at 256² against a
     /// path tracer, 0.75 % block error against 2.88 % for `radiosity` (docs/raytracing.md).
-    #[arg(long, value_enum, default_value_t = Mode::Final)]
-    pub mode: Mode,
+    #[arg(long, value_enum, default_value_t = ModeKind::Final)]
+    pub mode: ModeKind,
     /// With --mode raytrace: final-gather N rays per pixel at the first diffuse hit, plus
     /// sampled direct light (removes the meshing artefacts; 0 reads the lit mesh).
     #[arg(long, value_name = "N", default_value_t = 0,
@@ -332,8 +337,8 @@ pub struct OutputArgs {
     /// `evaluated` at each vertex as the final picture is (exact direct light, near field) and
     /// its triangles split where interpolation misses by more than --display-tolerance, or
     /// `averaged` from the elements around each vertex (docs/raytracing.md).
-    #[arg(long, value_enum, default_value_t = Display::Evaluated)]
-    pub display: Display,
+    #[arg(long, value_enum, default_value_t = DisplayKind::Evaluated)]
+    pub display: DisplayKind,
     /// With --display evaluated: the largest error, in per cent of the luminance, that
     /// interpolating along an edge may make at its midpoint before the edge is split.
     #[arg(long, value_name = "PERCENT", default_value_t = 1.0, value_parser = positive_f64)]
@@ -382,7 +387,7 @@ pub struct MeshArgs {
 pub struct FormFactorArgs {
     /// Form-factor method [default: raycast]
     #[arg(long, value_enum, value_name = "METHOD")]
-    pub form_factors: Option<FormFactors>,
+    pub form_factors: Option<formfactor::Method>,
     /// Quadrature points per receiver element, as an N × N grid (ray-cast and analytic form
     /// factors: Lambert's formula at each point; hemicube: one hemicube at each point); twice
     /// as many per side on elements that another surface touches [default: 2]
@@ -534,60 +539,6 @@ pub enum Suite {
     Hierarchical,
     /// Our pictures against a path tracer's converged picture: error and time.
     Image,
-}
-
-/// `--mode`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Mode {
-    /// Diffuse global illumination from the radiosity solution.
-    Radiosity,
-    /// Direct light plus a constant ambient term, for comparison.
-    Local,
-    /// Whitted ray tracing over the radiosity solution.
-    Raytrace,
-    /// The radiosity solution evaluated at each visible point: direct light from the emitters
-    /// exactly (Lambert's formula, shadow rays in penumbrae), indirect light from the solution;
-    /// mirrors and glass traced.
-    Final,
-}
-
-/// `--display`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Display {
-    /// Evaluated at each vertex, the triangles split where interpolation misses.
-    Evaluated,
-    /// The area-weighted mean of the elements around each vertex.
-    Averaged,
-}
-
-/// `--solver`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Solver {
-    /// Jacobi iteration (gathering).
-    Jacobi,
-    /// Gauss-Seidel iteration (gathering).
-    GaussSeidel,
-    /// Progressive refinement (shooting).
-    Progressive,
-    /// Hierarchical radiosity with clustering; refines the elements on demand (`--epsilon`,
-    /// `--min-element-area`).
-    Hierarchical,
-    /// Hierarchical radiosity, unless `--elements`, `--max-element-area`, `--sources` or a
-    /// form-factor option asks for a uniform mesh and its matrix: then Gauss-Seidel while the
-    /// matrix fits the memory budget (hierarchical or progressive beyond it; many small faces
-    /// go hierarchical).
-    Auto,
-}
-
-/// `--form-factors`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum FormFactors {
-    /// Lambert's closed form, without visibility (convex enclosures only).
-    Analytic,
-    /// Lambert's closed form times a ray-cast visibility fraction.
-    Raycast,
-    /// Item-buffer hemicubes (Cohen & Greenberg 1985).
-    Hemicube,
 }
 
 /// `--export-exposure`: `auto`, `linear` or a finite number of stops.

@@ -8,10 +8,10 @@ use anyhow::Result;
 use radiosity::io::atomic::Batch;
 use radiosity::io::image_file::write_image;
 use radiosity::render::raytrace;
-use radiosity::render::{compare, tonemap, Image};
+use radiosity::render::{compare, tonemap, Image, ModeKind};
 use radiosity::Rgb;
 
-use crate::args::{CompareArgs, Mode};
+use crate::args::CompareArgs;
 use crate::job;
 use crate::picture;
 use crate::progress::Reporting;
@@ -38,9 +38,12 @@ pub fn run(args: &CompareArgs) -> Result<()> {
             return job::finish(&solved, common, None, outputs);
         }
         let render_start = Instant::now();
-        let mut modes = vec![("local", Mode::Local), ("radiosity", Mode::Radiosity)];
+        let mut modes = vec![
+            ("local", ModeKind::Local),
+            ("radiosity", ModeKind::Radiosity),
+        ];
         if raytrace::has_specular(&solved.scene) {
-            modes.push(("ray tracing", Mode::Raytrace));
+            modes.push(("ray tracing", ModeKind::Raytrace));
         }
         let mut panels = Vec::with_capacity(modes.len());
         for (label, mode) in modes {

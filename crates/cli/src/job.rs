@@ -18,18 +18,20 @@ use radiosity::io::export;
 use radiosity::io::image_file::write_image;
 use radiosity::pipeline::{self, Solved};
 use radiosity::plot::write_convergence_svg;
-use radiosity::render::{tonemap, RasterSettings};
+use radiosity::render::{mode, tonemap, ModeKind, RasterSettings};
 use radiosity::scene::validate::{camera_problem, CameraProblem};
 use radiosity::scene::{sky, Camera};
+use radiosity::solve;
 use radiosity::solve::checkpoint::{Checkpoint, Checkpointing, Control};
 use radiosity::stats::Timings;
 use radiosity::Scene;
 
-use crate::args::{CommonArgs, FrameArgs, Mode, RenderArgs, SolveArgs, Solver, ViewArgs};
+use crate::args::{CommonArgs, FrameArgs, RenderArgs, SolveArgs, ViewArgs};
 use crate::interrupt::{stop_flag, Interrupted};
 use crate::picture;
 use crate::progress::Reporting;
 use crate::settings;
+use crate::solver::Solver;
 
 /// Image extensions `--output` accepts.
 pub(crate) const IMAGE_EXTENSIONS: [&str; 4] = ["png", "exr", "hdr", "pfm"];
@@ -38,13 +40,13 @@ const IMAGE_BYTES_PER_PIXEL: u64 = 24;
 
 /// `radiosity render`.
 pub fn render(args: &RenderArgs) -> Result<()> {
-    if args.gather > 0 && args.mode != Mode::Raytrace {
+    if args.gather > 0 && args.mode != ModeKind::Raytrace {
         bail!("--gather applies to --mode raytrace only");
     }
-    if args.no_shadows && args.mode != Mode::Local {
+    if args.no_shadows && args.mode != ModeKind::Local {
         bail!("--no-shadows applies to --mode local only");
     }
-    if args.mode == Mode::Local {
+    if args.mode == ModeKind::Local {
         let common = &args.common;
         for (given, flag) in [
             (common.outputs.stats.is_some(), "--stats"),
@@ -97,31 +99,11 @@ pub(crate) fn in_pool<T: Send>(
     }
 }
 
-/// Antialiasing samples per pixel by default.
-const SAMPLES: u32 = 4;
-
-/// With `--mode final`: the first pass of the coverage (`render/raytrace/coverage.rs`). The
-/// evaluation runs once per pixel and surface; a pixel whose samples, or its neighbours' next
-/// to it, meet more than one surface is sampled again on a 16 × 16 grid refined to 64 × 64
-/// where the surface changes, so the samples only have to find the edges (Cornell box 256²
-/// against Mitsuba 3: 0.68 % block error at 4 samples, 0.67 % at 16 and at 64; the render
-/// stage grows by a few tenths of a second from 16 to 64).
-const FINAL_SAMPLES: u32 = 16;
-
-/// With `--mode radiosity` the rasterizer's samples cost next to nothing (256²: 0.01 s at 4,
-/// 0.05 s at 64) and buy box-filtered edges (8.3 % at 4, 3.7 % at 64 with the averaged lit
-/// mesh, 2.5 % with the refined one).
-const RASTER_SAMPLES: u32 = 64;
-
 fn render_job(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     let common = &args.common;
     let (scene, load) = load(&args.scene, common)?;
-    let samples = args.samples.unwrap_or(match args.mode {
-        Mode::Final => FINAL_SAMPLES,
-        Mode::Radiosity => RASTER_SAMPLES,
-        Mode::Local | Mode::Raytrace => SAMPLES,
-    });
+    let samples = args.samples.unwrap_or(args.mode.default_samples());
     let (camera, raster) = frame(&scene, &args.frame, samples)?;
     let pixels = u64::from(raster.width) * u64::from(raster.height);
     let budget = settings::memory_budget(common);
@@ -141,7 +123,7 @@ fn render_job(args: &RenderArgs) -> Result<()> {
     } else {
         args.outputs.clone()
     };
-    if args.mode == Mode::Local {
+    if args.mode == ModeKind::Local {
         let reporting = Reporting::of(&common.run);
         let image = picture::render_local(&scene, &camera, &raster, !args.no_shadows, reporting)?;
         let exposure = args
@@ -155,7 +137,7 @@ fn render_job(args: &RenderArgs) -> Result<()> {
         }
         return commit(batch, common);
     }
-    let shows_lit = args.mode != Mode::Final || !common.outputs.export.is_empty();
+    let shows_lit = args.mode != ModeKind::Final || !common.outputs.export.is_empty();
     let solved = run_solve(scene, common, shows_lit)?;
 
     let render_start = Instant::now();
@@ -163,17 +145,17 @@ fn render_job(args: &RenderArgs) -> Result<()> {
     // After a Ctrl-C the run ends now: a ray-traced or evaluated picture takes seconds to
     // minutes, so an interrupted solve is pictured the quick way, by its interpolated lit mesh
     // at the default samples.
-    let (mode, raster) = if solved.solution.interrupted && args.mode != Mode::Radiosity {
+    let (mode, raster) = if solved.solution.interrupted && args.mode != ModeKind::Radiosity {
         say(
             common,
             "the solve was interrupted: the picture is the solution so far, interpolated \
              (--mode radiosity)",
         );
         let quick = RasterSettings {
-            samples_per_pixel: raster.samples_per_pixel.min(SAMPLES),
+            samples_per_pixel: raster.samples_per_pixel.min(mode::DEFAULT_SAMPLES),
             ..raster
         };
-        (Mode::Radiosity, quick)
+        (ModeKind::Radiosity, quick)
     } else {
         (args.mode, raster)
     };
@@ -544,7 +526,7 @@ fn commit(batch: Batch, common: &CommonArgs) -> Result<()> {
 /// for among them) and the `--stats`, `--plot`, `--export` and `--checkpoint` paths, before
 /// any work.
 pub(crate) fn check_common(common: &CommonArgs) -> Result<()> {
-    if common.solver.solver == Solver::Hierarchical {
+    if common.solver.solver == Solver::Method(solve::Method::Hierarchical) {
         if common.mesh.elements.is_some() {
             bail!("--elements does not apply to --solver hierarchical, which refines by --epsilon");
         }
@@ -562,7 +544,7 @@ pub(crate) fn check_common(common: &CommonArgs) -> Result<()> {
     if let Some(path) = &common.outputs.plot {
         check_output(path, "plot", &["svg"])?;
     }
-    let formats: Vec<&str> = export::Format::ALL.iter().map(|&(_, e)| e).collect();
+    let formats = export::Format::ALL.map(export::Format::name);
     for path in &common.outputs.export {
         check_output(path, "export", &formats)?;
     }

@@ -39,6 +39,7 @@ mod picture;
 mod progress;
 mod reference_suite;
 mod settings;
+mod solver;
 mod validate;
 
 use std::io::Write;

@@ -6,12 +6,11 @@ use radiosity::mesh::{display, Mesh, Subdivision};
 use radiosity::pipeline::Solved;
 use radiosity::render::local::{self, LocalSettings};
 use radiosity::render::raytrace::{RaytraceSettings, Watch};
-use radiosity::render::{self, Image, RasterSettings};
+use radiosity::render::{self, Image, ModeKind, RasterSettings};
 use radiosity::scene::Camera;
 use radiosity::Rgb;
 use radiosity::Scene;
 
-use crate::args::Mode;
 use crate::interrupt::{stop_flag, Interrupted};
 use crate::progress::Reporting;
 
@@ -21,24 +20,23 @@ use crate::progress::Reporting;
 pub fn render_mode(
     solved: &Solved,
     camera: &Camera,
-    mode: Mode,
+    mode: ModeKind,
     raster: &RasterSettings,
     gather: u32,
     shadows: bool,
     reporting: Reporting,
 ) -> Result<Image> {
-    let mode = match mode {
-        Mode::Radiosity => render::Mode::Radiosity,
-        Mode::Local => render::Mode::Local(LocalSettings {
+    let settings = render::mode::Settings {
+        local: LocalSettings {
             shadows,
             ..LocalSettings::default()
-        }),
-        Mode::Raytrace => render::Mode::Raytrace(RaytraceSettings {
+        },
+        raytrace: RaytraceSettings {
             gather,
             ..RaytraceSettings::default()
-        }),
-        Mode::Final => render::Mode::Final(RaytraceSettings::default()),
+        },
     };
+    let mode = render::Mode::of(mode, &settings);
     watched(reporting, |watch| {
         solved.render(&mode, camera, raster, watch)
     })

@@ -22,6 +22,7 @@ use radiosity::progress::{Progress, Silent, Work};
 use radiosity::stats::Timings;
 use radiosity::{formfactor, solve, Scene};
 
+use crate::solver::Solver;
 use crate::validate::Row;
 
 /// Largest accepted relative error of any object's radiosity in any channel.
@@ -29,44 +30,6 @@ pub const TOLERANCE: f64 = 0.01;
 
 /// Largest accepted departure of a closed scene's absorbed over emitted power from one.
 pub const ENERGY_TOLERANCE: f64 = 1e-3;
-
-/// Which solver a suite run uses: the automatic choice or one method.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SuiteSolver {
-    /// The automatic choice (no `--solver`).
-    Auto,
-    /// One method.
-    Method(solve::Method),
-}
-
-impl SuiteSolver {
-    /// Every choice: the automatic one, then each method.
-    pub fn all() -> Vec<SuiteSolver> {
-        std::iter::once(SuiteSolver::Auto)
-            .chain(solve::Method::ALL.into_iter().map(SuiteSolver::Method))
-            .collect()
-    }
-
-    fn name(self) -> &'static str {
-        match self {
-            SuiteSolver::Auto => "auto",
-            SuiteSolver::Method(m) => m.name(),
-        }
-    }
-}
-
-impl std::str::FromStr for SuiteSolver {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        if s == "auto" {
-            return Ok(SuiteSolver::Auto);
-        }
-        s.parse::<solve::Method>()
-            .map(SuiteSolver::Method)
-            .map_err(|e| format!("{e} or auto"))
-    }
-}
 
 /// One object of a reference: its name and mean radiosity per channel.
 struct Reference {
@@ -91,7 +54,7 @@ struct ReferenceFile {
 pub fn rows(
     root: &Path,
     only: &[String],
-    solvers: &[SuiteSolver],
+    solvers: &[Solver],
     form_factors: &[formfactor::Method],
     progress: &dyn Progress,
 ) -> anyhow::Result<Vec<Row>> {
@@ -173,7 +136,7 @@ fn read_reference(file: &Path) -> anyhow::Result<ReferenceFile> {
 fn scene_rows(
     label: &str,
     scene: Scene,
-    solver: SuiteSolver,
+    solver: Solver,
     ff: formfactor::Method,
     reference: &ReferenceFile,
 ) -> anyhow::Result<Vec<Row>> {
@@ -188,10 +151,10 @@ fn scene_rows(
         // default form factors, `radiosity solve SCENE --form-factors FF` for the others (the
         // default method named explicitly would also count as asking for a uniform mesh).
         method: match solver {
-            SuiteSolver::Auto => {
+            Solver::Auto => {
                 solve::plan::unsized_method(ff != formfactor::Settings::default().method())
             }
-            SuiteSolver::Method(m) => Some(m),
+            Solver::Method(m) => Some(m),
         },
     };
     let start = Instant::now();

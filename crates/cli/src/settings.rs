@@ -6,7 +6,8 @@ use radiosity::pipeline;
 use radiosity::render::raytrace::evaluate::display_refinement;
 use radiosity::solve;
 
-use crate::args::{CommonArgs, Display, FormFactors, Quality, Solver};
+use crate::args::{CommonArgs, Quality};
+use crate::solver::Solver;
 
 /// Elements of `--quality final` (gathering and progressive solvers).
 const FINAL_ELEMENTS: usize = 16_000;
@@ -35,22 +36,17 @@ pub fn pipeline_settings(common: &CommonArgs) -> anyhow::Result<pipeline::Settin
         settings.subdivision = Subdivision::MaxArea(a);
     }
     settings.discontinuity = common.mesh.discontinuity_meshing;
-    settings.display = match common.outputs.display {
-        Display::Evaluated => pipeline::Display::Evaluated(display_refinement::Settings {
-            tolerance: common.outputs.display_tolerance / 100.0,
-            ..display_refinement::Settings::default()
-        }),
-        Display::Averaged => pipeline::Display::Averaged,
+    let refinement = display_refinement::Settings {
+        tolerance: common.outputs.display_tolerance / 100.0,
+        ..display_refinement::Settings::default()
     };
+    settings.display = pipeline::Display::of(common.outputs.display, refinement);
     settings.form_factors = form_factor_settings(common)?;
     if let Some(n) = common.mesh.sources {
         settings.solve.max_sources = usize::try_from(n).unwrap_or(usize::MAX);
     }
     settings.method = match common.solver.solver {
-        Solver::Jacobi => Some(solve::Method::Jacobi),
-        Solver::GaussSeidel => Some(solve::Method::GaussSeidel),
-        Solver::Progressive => Some(solve::Method::Progressive),
-        Solver::Hierarchical => Some(solve::Method::Hierarchical),
+        Solver::Method(method) => Some(method),
         Solver::Auto => solve::plan::unsized_method(asks_for_a_mesh(common)),
     };
     if let Some(epsilon) = common.solver.epsilon {
@@ -88,28 +84,17 @@ fn asks_for_a_mesh(common: &CommonArgs) -> bool {
 /// The form-factor method's settings: its defaults, with the options given. An option that
 /// the method has no use for is refused rather than ignored.
 fn form_factor_settings(common: &CommonArgs) -> anyhow::Result<formfactor::Settings> {
-    let method = match common.form_factors.form_factors {
-        Some(FormFactors::Analytic) => formfactor::Method::Analytic,
-        Some(FormFactors::Raycast) => formfactor::Method::RayCast,
-        Some(FormFactors::Hemicube) => formfactor::Method::Hemicube,
-        None => formfactor::Settings::default().method(),
-    };
+    let method = common
+        .form_factors
+        .form_factors
+        .unwrap_or_else(|| formfactor::Settings::default().method());
     let mut settings = formfactor::Settings::of(method);
-    let (quadrature, rays, seed, resolution) = match &mut settings {
-        formfactor::Settings::Analytic(s) => (Some(&mut s.quadrature), None, None, None),
-        formfactor::Settings::RayCast(s) => (
-            Some(&mut s.quadrature),
-            Some(&mut s.rays),
-            Some(&mut s.seed),
-            None,
-        ),
-        formfactor::Settings::Hemicube(s) => (
-            Some(&mut s.quadrature),
-            None,
-            Some(&mut s.seed),
-            Some(&mut s.resolution),
-        ),
-    };
+    let formfactor::Options {
+        quadrature,
+        rays,
+        seed,
+        resolution,
+    } = settings.options();
     set(
         quadrature,
         common.form_factors.quadrature,
@@ -169,6 +154,28 @@ mod tests {
     /// The subdivision that `radiosity solve cornell ARGS` asks for.
     fn subdivision(args: &[&str]) -> Subdivision {
         settings(args).subdivision
+    }
+
+    #[test]
+    fn every_registered_value_is_parsed_into_the_engines_settings() {
+        for m in solve::Method::ALL {
+            assert_eq!(settings(&["--solver", m.name()]).method, Some(m));
+        }
+        for m in formfactor::Method::ALL {
+            let asked = settings(&["--form-factors", m.name()]);
+            assert_eq!(asked.form_factors.method(), m);
+        }
+        for kind in pipeline::DisplayKind::ALL {
+            assert_eq!(settings(&["--display", kind.name()]).display.kind(), kind);
+        }
+        for kind in radiosity::render::ModeKind::ALL {
+            let cli = Cli::try_parse_from(["radiosity", "render", "--mode", kind.name()])
+                .expect("parses");
+            let Command::Render(render) = cli.command else {
+                panic!("not a render: {cli:?}");
+            };
+            assert_eq!(render.mode, kind);
+        }
     }
 
     #[test]

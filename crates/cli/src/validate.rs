@@ -47,7 +47,8 @@ use radiosity::scene::{Material, Object, Polygon};
 use radiosity::stats::{Stats, Timings};
 use radiosity::{solve, testing, Rgb, Scene};
 
-use crate::reference_suite::{self, SuiteSolver};
+use crate::reference_suite;
+use crate::solver::Solver;
 
 /// `radiosity validate`.
 #[derive(Debug, Args)]
@@ -120,9 +121,9 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
     let mut rows = suite()?;
     if args.suite {
         let solvers = if args.suite_solvers.iter().any(|s| s == "all") {
-            SuiteSolver::all()
+            Solver::all()
         } else if args.suite_solvers.is_empty() {
-            vec![SuiteSolver::Auto]
+            vec![Solver::Auto]
         } else {
             args.suite_solvers
                 .iter()

@@ -56,8 +56,8 @@ fn main() -> Result<()> {
         cameras: &solved.scene.cameras,
         aspect: 1.0,
     };
-    for (format, extension) in export::Format::ALL {
-        let path = out.join(format!("{name}.{extension}"));
+    for format in export::Format::ALL {
+        let path = out.join(format!("{name}.{format}"));
         timed(&path, || Ok(format.write(&path, &solved, &options)?))?;
     }
     let glb = out.join(format!("{name}.glb"));

@@ -30,6 +30,7 @@ pub mod mesh;
 pub mod pipeline;
 pub mod plot;
 pub mod progress;
+mod registry;
 pub mod render;
 pub mod sampling;
 pub mod scene;

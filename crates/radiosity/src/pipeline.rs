@@ -10,8 +10,9 @@ use crate::accel::Bvh;
 use crate::formfactor::{self, Geometry};
 use crate::mesh::{display, LitMesh, Mesh, Subdivision};
 use crate::progress::{Progress, Work};
+use crate::registry::registry;
 use crate::render::raytrace::evaluate::display_refinement;
-use crate::render::{self, local, raytrace, Image, Mode, RasterSettings, Watch};
+use crate::render::{Image, Mode, RasterSettings, Watch};
 use crate::scene::Camera;
 use crate::solve::checkpoint::{hash_text, Control};
 use crate::solve::{self, plan, Solution, SolveError};
@@ -37,6 +38,10 @@ pub struct Settings {
 }
 
 /// How the lit mesh (exports, `--mode radiosity`) gets its vertex radiosity.
+///
+/// Adding a display mode is the code that makes the lit mesh, and here: its line in
+/// [`DisplayKind`] (its doc comment is its help on the command line), its variant below and the
+/// arms the compiler then asks for in this file.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum Display {
     /// The area-weighted mean of the elements around each vertex (borders extrapolated).
@@ -45,6 +50,38 @@ pub enum Display {
     /// Evaluated at each vertex, the triangles split where interpolation misses
     /// ([`display_refinement`]).
     Evaluated(display_refinement::Settings),
+}
+
+registry! {
+    /// The display modes by name, without their settings: the registry of the family.
+    pub enum DisplayKind {
+        /// Evaluated at each vertex, the triangles split where interpolation misses.
+        Evaluated = "evaluated",
+        /// The area-weighted mean of the elements around each vertex.
+        Averaged = "averaged",
+    }
+    /// An unknown display mode name.
+    pub struct UnknownDisplay = "unknown display mode";
+}
+
+impl Display {
+    /// The display mode `kind`, evaluated ones refined as `refinement` says.
+    #[must_use]
+    pub fn of(kind: DisplayKind, refinement: display_refinement::Settings) -> Self {
+        match kind {
+            DisplayKind::Evaluated => Display::Evaluated(refinement),
+            DisplayKind::Averaged => Display::Averaged,
+        }
+    }
+
+    /// Which display mode this is.
+    #[must_use]
+    pub fn kind(&self) -> DisplayKind {
+        match self {
+            Display::Evaluated(_) => DisplayKind::Evaluated,
+            Display::Averaged => DisplayKind::Averaged,
+        }
+    }
 }
 
 /// Why a pipeline run failed.
@@ -255,19 +292,7 @@ impl Solved {
         watch: &Watch,
     ) -> Option<Image> {
         let (scene, mesh, lit) = (&self.scene, &self.mesh, &self.lit);
-        match mode {
-            Mode::Radiosity => render::render_watched(lit, camera, raster, watch),
-            Mode::Local(settings) => {
-                local::render(scene, mesh, lit, camera, raster, settings, watch)
-            }
-            Mode::Raytrace(settings) => {
-                raytrace::render(scene, mesh, lit, camera, raster, settings, watch)
-            }
-            Mode::Final(settings) => {
-                let solution = &self.solution;
-                raytrace::evaluate::render(scene, mesh, solution, camera, raster, settings, watch)
-            }
-        }
+        mode.render(scene, mesh, lit, &self.solution, camera, raster, watch)
     }
 
     /// The statistics of `--stats` ([`crate::stats`]). `timings` supplies the stages measured outside the
@@ -364,5 +389,22 @@ impl Solved {
                 }
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_display_mode_is_named_parsed_and_built() {
+        let err = "flat".parse::<DisplayKind>().unwrap_err().to_string();
+        assert!(err.starts_with("unknown display mode `flat` (choose "));
+        for kind in DisplayKind::ALL {
+            assert_eq!(kind.name().parse::<DisplayKind>(), Ok(kind));
+            assert!(err.contains(kind.name()), "{err}");
+            let refinement = display_refinement::Settings::default();
+            assert_eq!(Display::of(kind, refinement).kind(), kind);
+        }
     }
 }

@@ -40,6 +40,7 @@ use glam::{DVec3, Vec3};
 
 use crate::accel::Bvh;
 use crate::mesh::{Face, Mesh, NEAR_REFINEMENT};
+use crate::registry::registry;
 
 /// What a form-factor method needs to see: the mesh, its visibility structure, and the sources.
 #[derive(Clone, Copy, Debug)]
@@ -109,80 +110,26 @@ pub trait FormFactors: Sync {
     }
 }
 
-/// Names the variants of a method enum for the command line and stats: `ALL` (every method, in
-/// the order the command line lists them), `name`, `Display` and `FromStr`, with the parse error
-/// `UnknownMethod` whose message is the given format string (`{0}` is the name). Shared by
-/// [`Method`] and [`crate::solve::Method`].
-macro_rules! method_names {
-    (
-        $method:ident,
-        $(#[$error_doc:meta])*
-        $message:literal,
-        { $($variant:ident => $name:literal),+ $(,)? }
-    ) => {
-        impl $method {
-            /// Every method, in the order the command line lists them.
-            pub const ALL: [$method; [$($name),+].len()] = [$($method::$variant),+];
-
-            /// The name used on the command line and in stats.
-            #[must_use]
-            pub fn name(self) -> &'static str {
-                match self {
-                    $($method::$variant => $name,)+
-                }
-            }
-        }
-
-        impl ::std::fmt::Display for $method {
-            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
-                f.write_str(self.name())
-            }
-        }
-
-        $(#[$error_doc])*
-        #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-        #[error($message)]
-        pub struct UnknownMethod(pub String);
-
-        impl ::std::str::FromStr for $method {
-            type Err = UnknownMethod;
-
-            fn from_str(s: &str) -> Result<Self, Self::Err> {
-                $method::ALL
-                    .into_iter()
-                    .find(|m| m.name() == s)
-                    .ok_or_else(|| UnknownMethod(s.to_owned()))
-            }
-        }
-    };
-}
-pub(crate) use method_names;
-
-/// The form-factor methods.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Method {
-    /// Lambert's contour integral without visibility (convex enclosures only).
-    Analytic,
-    /// Lambert's contour integral times a ray-cast visibility fraction.
-    #[default]
-    RayCast,
-    /// Item-buffer hemicubes (Cohen & Greenberg 1985), see [`hemicube`].
-    Hemicube,
-}
-
-method_names!(
-    Method,
-    /// An unknown method name.
-    "unknown form-factor method `{0}` (choose analytic, raycast or hemicube)",
-    {
-        Analytic => "analytic",
-        RayCast => "raycast",
-        Hemicube => "hemicube",
+registry! {
+    /// The form-factor methods: the registry of the family. Adding one is a file with its
+    /// [`FormFactors`] and its `Settings`, and a line here, whose doc comment is its help on the
+    /// command line; the compiler then asks for its arms in [`Settings`] below.
+    #[derive(Default)]
+    pub enum Method {
+        /// Lambert's closed form, without visibility (convex enclosures only).
+        Analytic = "analytic",
+        /// Lambert's closed form times a ray-cast visibility fraction.
+        #[default]
+        RayCast = "raycast",
+        /// Item-buffer hemicubes (Cohen & Greenberg 1985).
+        Hemicube = "hemicube",
     }
-);
+    /// An unknown method name.
+    pub struct UnknownMethod = "unknown form-factor method";
+}
 
-/// A form-factor method with its own settings: adding a method is one file (its
-/// [`FormFactors`] and its `Settings`), one arm here and one in [`Method`].
+/// A form-factor method with its own settings: one variant per [`Method`], with its arms in
+/// [`Settings::of`], [`Settings::method`], [`Settings::options`] and [`build`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Settings {
     /// Lambert's contour integral, no visibility.
@@ -220,6 +167,42 @@ impl Settings {
             Self::Hemicube(_) => Method::Hemicube,
         }
     }
+
+    /// The options these settings have, to be set by name.
+    pub fn options(&mut self) -> Options<'_> {
+        match self {
+            Self::Analytic(s) => Options {
+                quadrature: Some(&mut s.quadrature),
+                ..Options::default()
+            },
+            Self::RayCast(s) => Options {
+                quadrature: Some(&mut s.quadrature),
+                rays: Some(&mut s.rays),
+                seed: Some(&mut s.seed),
+                resolution: None,
+            },
+            Self::Hemicube(s) => Options {
+                quadrature: Some(&mut s.quadrature),
+                rays: None,
+                seed: Some(&mut s.seed),
+                resolution: Some(&mut s.resolution),
+            },
+        }
+    }
+}
+
+/// The options of a method's [`Settings`], each `None` where the method has no such option: a
+/// front end sets the ones it is given and refuses those the method has no use for.
+#[derive(Debug, Default)]
+pub struct Options<'a> {
+    /// Quadrature points per receiver, as an n × n grid.
+    pub quadrature: Option<&'a mut u32>,
+    /// Shadow rays per element–source pair.
+    pub rays: Option<&'a mut u32>,
+    /// Seed of the jitter and of the rotations.
+    pub seed: Option<&'a mut u64>,
+    /// Cells along a full edge of a hemicube.
+    pub resolution: Option<&'a mut u32>,
 }
 
 /// The form-factor computer that `settings` describe.
@@ -453,15 +436,16 @@ mod tests {
     use super::*;
 
     #[test]
-    fn method_names_round_trip_and_errors_list_choices() {
+    fn every_method_is_named_parsed_and_built() {
+        let err = "nusselt".parse::<Method>().unwrap_err().to_string();
+        assert!(err.starts_with("unknown form-factor method `nusselt` (choose "));
         for m in Method::ALL {
             assert_eq!(m.name().parse::<Method>(), Ok(m));
+            assert!(err.contains(m.name()), "{err}");
+            let settings = Settings::of(m);
+            assert_eq!(settings.method(), m);
+            let _built: Box<dyn FormFactors> = build(&settings);
         }
-        let err = "nusselt".parse::<Method>().unwrap_err().to_string();
-        assert!(
-            err.contains("analytic") && err.contains("hemicube"),
-            "{err}"
-        );
     }
 
     #[test]

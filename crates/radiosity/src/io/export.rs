@@ -8,8 +8,8 @@
 //! - `.html` ([`super::html`]): the self-contained WebGL viewer, starting at the exposure of
 //!   `options.colours` (the automatic one unless it names stops).
 //!
-//! Adding a format is a writer in `io/`, a variant here with its extension in
-//! [`Format::ALL`], and its arm in [`Format::write`].
+//! Adding a format is a writer in `io/`, and here its line in the [`Format`] registry (its name
+//! is its file extension) with its arm in [`Format::write`].
 
 use std::io;
 use std::path::Path;
@@ -17,17 +17,21 @@ use std::path::Path;
 use super::gltf::{write_glb, Placement, VertexColours};
 use super::{html, ply};
 use crate::pipeline::Solved;
+use crate::registry::registry;
 use crate::scene::Camera;
 
-/// An export format.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
-    /// Binary PLY.
-    Ply,
-    /// Binary glTF 2.0.
-    Glb,
-    /// The HTML viewer.
-    Html,
+registry! {
+    /// The export formats, each named by its file extension: the registry of the family.
+    pub enum Format {
+        /// Binary PLY.
+        Ply = "ply",
+        /// Binary glTF 2.0.
+        Glb = "glb",
+        /// The HTML viewer.
+        Html = "html",
+    }
+    /// An unknown export extension.
+    pub struct UnknownFormat = "unknown export format";
 }
 
 /// What the exports take besides the solution.
@@ -42,21 +46,11 @@ pub struct Options<'a> {
 }
 
 impl Format {
-    /// Every format with its file extension.
-    pub const ALL: [(Format, &'static str); 3] = [
-        (Format::Ply, "ply"),
-        (Format::Glb, "glb"),
-        (Format::Html, "html"),
-    ];
-
     /// The format of `path`'s extension (in any case), if it is one.
     #[must_use]
     pub fn of(path: &Path) -> Option<Format> {
         let extension = path.extension()?.to_string_lossy().to_lowercase();
-        Self::ALL
-            .iter()
-            .find(|(_, e)| *e == extension)
-            .map(|&(f, _)| f)
+        extension.parse().ok()
     }
 
     /// Writes `solved` to `path` in this format (atomically).
@@ -105,5 +99,13 @@ mod tests {
         assert_eq!(Format::of(Path::new("x.html")), Some(Format::Html));
         assert_eq!(Format::of(Path::new("x.obj")), None);
         assert_eq!(Format::of(Path::new("glb")), None);
+    }
+
+    #[test]
+    fn every_format_is_found_by_its_name() {
+        for format in Format::ALL {
+            let path = format!("lit.{format}");
+            assert_eq!(Format::of(Path::new(&path)), Some(format));
+        }
     }
 }

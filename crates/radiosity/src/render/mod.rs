@@ -29,6 +29,6 @@ pub mod watch;
 
 pub use camera::Projection;
 pub use image::Image;
-pub use mode::Mode;
+pub use mode::{Mode, ModeKind};
 pub use raster::{render, render_watched, RasterSettings};
 pub use watch::Watch;

@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use super::checkpoint::{Iterate, Session};
+use super::checkpoint::{Iterate, Session, Shape};
 use super::matrix::Matrix;
 use super::solver::Job;
 use super::{Run, Settings, Solution, SolveError, System};
@@ -13,6 +13,14 @@ use crate::progress::{Progress, Work};
 /// A gathering solver's iterations: from the system, the complete matrix and the session to
 /// the last iterate.
 pub(super) type Sweeps = fn(&System, &Matrix, &Settings, &mut Session, &dyn Progress) -> Run;
+
+/// A gathering solver's checkpoint state: B of every element (the matrix rows travel beside it).
+pub(super) fn checkpoint_shape(elements: usize) -> Shape {
+    Shape {
+        radiosity: elements,
+        ..Shape::default()
+    }
+}
 
 /// Solves `job` into `solution` with the matrix, then `sweeps`.
 pub(super) fn solve(job: Job, solution: &mut Solution, sweeps: Sweeps) -> Result<(), SolveError> {

@@ -12,7 +12,7 @@
 //! the means of the sweep's start (a Jacobi step for that part: the same fixed point, a sweep or
 //! two more). A sweep is sequential, hence deterministic.
 
-use super::checkpoint::Session;
+use super::checkpoint::{Session, Shape};
 use super::gathering;
 use super::jacobi::sweeps;
 use super::matrix::Matrix;
@@ -26,6 +26,10 @@ pub(super) struct GaussSeidel;
 impl Solver for GaussSeidel {
     fn solve(&self, job: Job, solution: &mut Solution) -> Result<(), SolveError> {
         gathering::solve(job, solution, run)
+    }
+
+    fn checkpoint_shape(&self, elements: usize) -> Shape {
+        gathering::checkpoint_shape(elements)
     }
 }
 

@@ -11,7 +11,7 @@
 
 use rayon::prelude::*;
 
-use super::checkpoint::{Iterate, Session};
+use super::checkpoint::{Iterate, Session, Shape};
 use super::gathering;
 use super::matrix::Matrix;
 use super::solver::{Job, Solver};
@@ -45,6 +45,10 @@ pub(super) struct Jacobi;
 impl Solver for Jacobi {
     fn solve(&self, job: Job, solution: &mut Solution) -> Result<(), SolveError> {
         gathering::solve(job, solution, run)
+    }
+
+    fn checkpoint_shape(&self, elements: usize) -> Shape {
+        gathering::checkpoint_shape(elements)
     }
 }
 

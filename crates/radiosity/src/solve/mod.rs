@@ -59,36 +59,44 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use crate::formfactor::{method_names, FormFactors, Geometry};
+use crate::formfactor::{FormFactors, Geometry};
 use crate::mesh::Mesh;
 use crate::progress::Progress;
+use crate::registry::registry;
 use crate::Rgb;
 
-/// The solvers.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Method {
-    /// Gathering into a new vector (parallel), with a stored form-factor matrix.
-    Jacobi,
-    /// Gathering in place, with a stored form-factor matrix.
-    #[default]
-    GaussSeidel,
-    /// Shooting the largest unshot power, form factors computed on the fly.
-    Progressive,
-    /// Hierarchical radiosity with clustering, refining the elements on demand.
-    Hierarchical,
+registry! {
+    /// The solvers: the registry of the family. Adding one is a file with its [`solver::Solver`]
+    /// and a line here, whose doc comment is its help on the command line; the compiler then
+    /// asks for its arm in [`Method::solver`].
+    #[derive(Default)]
+    pub enum Method {
+        /// Jacobi iteration (gathering).
+        Jacobi = "jacobi",
+        /// Gauss-Seidel iteration (gathering).
+        #[default]
+        GaussSeidel = "gauss-seidel",
+        /// Progressive refinement (shooting).
+        Progressive = "progressive",
+        /// Hierarchical radiosity with clustering; refines the elements on demand (`--epsilon`,
+        /// `--min-element-area`).
+        Hierarchical = "hierarchical",
+    }
+    /// An unknown solver name.
+    pub struct UnknownMethod = "unknown solver";
 }
 
-method_names!(
-    Method,
-    /// An unknown solver name.
-    "unknown solver `{0}` (choose jacobi, gauss-seidel, progressive or hierarchical)",
-    {
-        Jacobi => "jacobi",
-        GaussSeidel => "gauss-seidel",
-        Progressive => "progressive",
-        Hierarchical => "hierarchical",
+impl Method {
+    /// The solver of this method.
+    fn solver(self) -> &'static dyn solver::Solver {
+        match self {
+            Method::Jacobi => &jacobi::Jacobi,
+            Method::GaussSeidel => &gauss_seidel::GaussSeidel,
+            Method::Progressive => &progressive::Progressive,
+            Method::Hierarchical => &hierarchical::Hierarchical,
+        }
     }
-);
+}
 
 /// Solver options, for every [`Method`] (the method itself is an argument of [`solve`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -585,13 +593,14 @@ mod tests {
     use super::*;
 
     #[test]
-    fn method_names_round_trip_and_errors_list_choices() {
+    fn every_method_is_named_parsed_and_has_a_solver() {
+        let err = "wavelet".parse::<Method>().unwrap_err().to_string();
+        assert!(err.starts_with("unknown solver `wavelet` (choose "));
         for m in Method::ALL {
             assert_eq!(m.name().parse::<Method>(), Ok(m));
-        }
-        let err = "wavelet".parse::<Method>().unwrap_err().to_string();
-        for m in Method::ALL {
             assert!(err.contains(m.name()), "{err}");
+            let shape = m.solver().checkpoint_shape(7);
+            assert!(shape.radiosity == 7 || shape.hierarchy, "{m}: {shape:?}");
         }
     }
 

@@ -43,7 +43,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::checkpoint::{Iterate, Session};
+use super::checkpoint::{Iterate, Session, Shape};
 use super::near_sources::{self, Piece, Scratch};
 use super::solver::{Job, Solver};
 use super::{l1, Settings, Solution, SolveError, System};
@@ -98,6 +98,16 @@ impl Solver for Progressive {
         solution.form_factor_seconds = run.form_factor_seconds;
         solution.solve_seconds = start.elapsed().as_secs_f64() - run.form_factor_seconds;
         Ok(())
+    }
+
+    /// B, the irradiance received and the unshot radiosity of every element.
+    fn checkpoint_shape(&self, elements: usize) -> Shape {
+        Shape {
+            radiosity: elements,
+            irradiance: elements,
+            unshot: elements,
+            hierarchy: false,
+        }
     }
 }
 

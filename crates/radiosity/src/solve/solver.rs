@@ -3,14 +3,13 @@
 //! linear system in solver-friendly arrays — and fills the one [`Solution`], which
 //! [`super::solve_controlled`] starts at B = E.
 //!
-//! Adding a solver is one file with a unit struct implementing [`Solver`], and one arm in
-//! [`Method`] (its name in `method_names!` and its solver in [`Method::solver`]). Checkpoints,
-//! the stop flag and progress reach it through the job ([`Job::session`]), so every solver is
-//! interruptible and resumable the same way.
+//! Adding a solver is one file with a unit struct implementing [`Solver`] (its checkpoint
+//! state's [`Shape`] included), and its line in the [`Method`] registry with its arm in
+//! [`Method::solver`]. Checkpoints, the stop flag and progress reach it through the job
+//! ([`Job::session`]), so every solver is interruptible and resumable the same way.
 
-use super::checkpoint::{self, Control, Session};
-use super::{gauss_seidel, hierarchical, jacobi, progressive, Method, Settings, Solution};
-use super::{SolveError, System};
+use super::checkpoint::{self, Control, Session, Shape};
+use super::{Method, Settings, Solution, SolveError, System};
 use crate::formfactor::{FormFactors, Geometry};
 use crate::progress::Progress;
 
@@ -21,6 +20,10 @@ pub(super) trait Solver: Sync {
     /// # Errors
     /// What the method refuses: a matrix beyond the budget, a checkpoint of another run.
     fn solve(&self, job: Job, solution: &mut Solution) -> Result<(), SolveError>;
+
+    /// What this solver's checkpoint state holds for a problem of `elements` elements: a
+    /// checkpoint to resume from must hold exactly that.
+    fn checkpoint_shape(&self, elements: usize) -> Shape;
 }
 
 /// Everything a solver works from.
@@ -49,17 +52,5 @@ impl<'a> Job<'a> {
         let problem =
             checkpoint::Problem::new(self.g.mesh, self.g.sources, method, self.control.context);
         Session::new(self.control, problem, method)
-    }
-}
-
-impl Method {
-    /// The solver of this method.
-    pub(super) fn solver(self) -> &'static dyn Solver {
-        match self {
-            Method::Jacobi => &jacobi::Jacobi,
-            Method::GaussSeidel => &gauss_seidel::GaussSeidel,
-            Method::Progressive => &progressive::Progressive,
-            Method::Hierarchical => &hierarchical::Hierarchical,
-        }
     }
 }

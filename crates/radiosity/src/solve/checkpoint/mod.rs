@@ -125,6 +125,32 @@ pub(super) struct Iterate {
     pub hierarchy: Option<Snapshot>,
 }
 
+/// The lengths of an [`Iterate`]'s vectors and whether it holds a hierarchy: what each solver's
+/// state is made of ([`super::solver::Solver::checkpoint_shape`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) struct Shape {
+    /// Elements of `radiosity`.
+    pub radiosity: usize,
+    /// Elements of `irradiance`.
+    pub irradiance: usize,
+    /// Elements of `unshot`.
+    pub unshot: usize,
+    /// Whether `hierarchy` is set.
+    pub hierarchy: bool,
+}
+
+impl Iterate {
+    /// The lengths of its vectors and whether it holds a hierarchy.
+    fn shape(&self) -> Shape {
+        Shape {
+            radiosity: self.radiosity.len(),
+            irradiance: self.irradiance.len(),
+            unshot: self.unshot.len(),
+            hierarchy: self.hierarchy.is_some(),
+        }
+    }
+}
+
 impl Checkpoint {
     /// Sweeps, shots or gather iterations done when the checkpoint was taken.
     #[must_use]
@@ -215,23 +241,13 @@ impl<'a> Session<'a> {
                     cp.method
                 ));
             }
-            let hierarchical = method == Method::Hierarchical;
-            let (radiosity, irradiance, unshot) = match method {
-                Method::Hierarchical => (0, 0, 0),
-                Method::Progressive => (problem.elements, problem.elements, problem.elements),
-                Method::Jacobi | Method::GaussSeidel => (problem.elements, 0, 0),
-            };
             let matrix_fits = cp
                 .matrix
                 .as_ref()
                 .is_none_or(|m| m.shape() == (problem.elements, problem.sources));
-            let state = &cp.state;
             if cp.fingerprint != problem.fingerprint
-                || state.radiosity.len() != radiosity
-                || state.irradiance.len() != irradiance
-                || state.unshot.len() != unshot
+                || cp.state.shape() != method.solver().checkpoint_shape(problem.elements)
                 || !matrix_fits
-                || state.hierarchy.is_some() != hierarchical
             {
                 return mismatch(
                     "it was made for a different scene, subdivision or form-factor settings"
@@ -377,13 +393,7 @@ mod tests {
 
     #[test]
     fn resuming_midway_gives_the_bit_identical_answer() {
-        let methods = [
-            Method::Progressive,
-            Method::GaussSeidel,
-            Method::Jacobi,
-            Method::Hierarchical,
-        ];
-        for method in methods {
+        for method in Method::ALL {
             let s = settings(method, 1);
             let reference = run(&s, &Control::default()).expect("solves");
             let (full, saves) = run_saving(&s);

@@ -54,7 +54,7 @@ use std::time::Instant;
 
 pub use snapshot::Snapshot;
 
-use super::checkpoint::{Control, Iterate, Problem, Session};
+use super::checkpoint::{Control, Iterate, Problem, Session, Shape};
 use super::solver::{Job, Solver};
 use super::{Method, Refined, Sample, Solution, SolveError};
 use crate::accel::Bvh;
@@ -191,6 +191,14 @@ impl Solver for Hierarchical {
             reflected_irradiance: Some(run.reflected_irradiance),
         }));
         Ok(())
+    }
+
+    /// The refined hierarchy only: its links and push-pull state hold the radiosity.
+    fn checkpoint_shape(&self, _elements: usize) -> Shape {
+        Shape {
+            hierarchy: true,
+            ..Shape::default()
+        }
     }
 }
 
