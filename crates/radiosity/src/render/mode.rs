@@ -1,6 +1,6 @@
 //! Render modes: the ways to picture a solved scene, one enum over the renderers of this
 //! module, each variant holding its renderer's settings, and their registry [`ModeKind`] (the
-//! names the command line parses). [`Mode::render`] dispatches on it, so every front end (the
+//! names the command line parses). `Mode::render` dispatches on it, so every front end (the
 //! command line's `render` and `compare`) draws the same picture from the same mode.
 //!
 //! Adding a mode is a renderer with its settings struct, and here: its line in [`ModeKind`]

@@ -66,9 +66,9 @@ use crate::registry::registry;
 use crate::Rgb;
 
 registry! {
-    /// The solvers: the registry of the family. Adding one is a file with its [`solver::Solver`]
+    /// The solvers: the registry of the family. Adding one is a file with its `solver::Solver`
     /// and a line here, whose doc comment is its help on the command line; the compiler then
-    /// asks for its arm in [`Method::solver`].
+    /// asks for its arm in `Method::solver`.
     #[derive(Default)]
     pub enum Method {
         /// Jacobi iteration (gathering).
