@@ -5,7 +5,7 @@
 //! `benches/image/reference/README.md`). Each configuration below is this program's own
 //! `render` command, run in a process of its own at the reference's size and timed whole
 //! (parse, mesh, solve, render, write), and its picture compared with the reference by
-//! [`radiosity::render::image_error::block_error`]: the RMS of the relative luminance error
+//! [`radiosity::render::block_error::block_error`]: the RMS of the relative luminance error
 //! over 4 × 4-pixel blocks, the measure the image issue states its goals in.
 
 use std::io::{IsTerminal, Write};
@@ -17,7 +17,7 @@ use anyhow::{bail, Context};
 use radiosity::io::atomic::write_atomic;
 use radiosity::io::image_file::read_pfm;
 use radiosity::progress::{Progress, Work};
-use radiosity::render::image_error::block_error;
+use radiosity::render::block_error::block_error;
 use serde::Serialize;
 
 use crate::args::BenchArgs;

@@ -26,7 +26,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Context};
 use radiosity::io::image_file::read_image;
-use radiosity::render::image_error::block_error;
+use radiosity::render::block_error::block_error;
 use radiosity::render::Image;
 use serde::{Deserialize, Serialize};
 

@@ -19,7 +19,7 @@ use radiosity::io::image_file::write_image;
 use radiosity::pipeline::{self, Solved};
 use radiosity::plot::write_convergence_svg;
 use radiosity::render::{mode, tonemap, ModeKind, RasterSettings};
-use radiosity::scene::validate::{camera_problem, CameraProblem};
+use radiosity::scene::check::{camera_problem, CameraProblem};
 use radiosity::scene::{sky, Camera};
 use radiosity::solve;
 use radiosity::solve::checkpoint::{Checkpoint, Checkpointing, Control};

@@ -8,7 +8,7 @@
 //! and the viewer-independent result — a lit mesh with radiosity at its vertices — is rendered
 //! from any camera and exported. The chapters, in pipeline order:
 //!
-//! 1. [`scene`]: the scene format (parse → validate → build) and built-in scenes.
+//! 1. [`scene`]: the scene format (parse → check → build) and built-in scenes.
 //! 2. [`mesh`]: patches, element quadtrees and the display mesh.
 //! 3. [`accel`]: a bounding-volume hierarchy for visibility.
 //! 4. [`formfactor`]: analytic, ray-cast and hemicube form factors.

@@ -80,7 +80,7 @@ fn every_face_emitting_gives_uniform_radiosity() {
 fn coarse_sources_opened_near_each_receiver_match_the_element_solution() {
     // A closed cube lit by its floor: the walls are bright at the bottom and dark at the top,
     // so a coarse source's mean misstates what reaches a receiver next to it. Each receiver
-    // opens its near sources (solve::near_sources), so 96 sources of 16 elements each give
+    // opens its near sources (solve::opened_sources), so 96 sources of 16 elements each give
     // the element-to-element solution: measured 0.053 % at worst (0.21 % with a reach of 2
     // diameters instead of 4), against 5.6 % when no source is opened.
     let scene = testing::closed_cube(0.5, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);

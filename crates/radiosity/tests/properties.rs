@@ -23,9 +23,9 @@ use std::path::Path;
 use glam::{DVec3, Vec3};
 use proptest::prelude::*;
 use radiosity::mesh::{Mesh, Node, Subdivision};
+use radiosity::scene::check::{polygon_problem, PolygonProblem};
 use radiosity::scene::import::gltf_file::parse_gltf;
 use radiosity::scene::import::obj::parse_obj;
-use radiosity::scene::validate::{polygon_problem, PolygonProblem};
 use radiosity::Scene;
 
 const CORNELL: &str = include_str!("../../../scenes/cornell/scene.toml");

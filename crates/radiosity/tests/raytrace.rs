@@ -8,7 +8,7 @@ use radiosity::formfactor::analytic::point_to_polygon;
 use radiosity::mesh::Subdivision;
 use radiosity::pipeline::{self, Settings, Solved};
 use radiosity::progress::Silent;
-use radiosity::render::image_error::block_error;
+use radiosity::render::block_error::block_error;
 use radiosity::render::local::{self, LocalSettings};
 use radiosity::render::raytrace::optics::{fresnel_dielectric, reflect, refract};
 use radiosity::render::raytrace::{self, RaytraceSettings, Watch};

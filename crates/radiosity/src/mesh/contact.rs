@@ -15,7 +15,7 @@
 //! boundary): a solid standing on the floor touches the floor's elements along its footprint,
 //! but a wall meeting the floor at the floor's edge touches nothing, and neither do coplanar
 //! neighbours. A triangle hovering just in front of the leaf (closer than [`COVER`] of its own
-//! size, the distance at which [`crate::scene::near_emitters`] warns) touches it where its
+//! size, the distance at which [`crate::scene::facing_emitters`] warns) touches it where its
 //! outline, projected, crosses the leaf: an emitter hung a millimetre in front of a wall and
 //! facing it lights the gap, and the wall's elements straddling its outline leaked that light
 //! into the room (measured on `scenes/suite/emitter-near-wall-facing`: the ceiling 123 % too
@@ -286,7 +286,7 @@ fn enters(corners: &[Vec3], normal: Vec3, p: Vec3, q: Vec3, eps: f32) -> bool {
 /// an emitter a millimetre in front of a wall lights the gap, and the wall's elements that
 /// straddle its outline are split like those along a contact line. Relative to the covering
 /// triangle, not to the leaf, so the test holds at every level of the refinement.
-const COVER: f32 = crate::scene::near_emitters::NEAR;
+const COVER: f32 = crate::scene::facing_emitters::NEAR;
 
 /// A triangle whose lowest point is closer to a leaf than this fraction of its own size stands
 /// *near* it: a block whose bottom edge floats a centimetre over a floor that is not quite flat

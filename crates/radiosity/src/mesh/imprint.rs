@@ -23,7 +23,7 @@ use glam::{DVec3, Vec3};
 use super::patch::root_faces;
 use super::triangulate::is_convex;
 use super::Face;
-use crate::scene::near_emitters::NEAR;
+use crate::scene::facing_emitters::NEAR;
 use crate::Scene;
 
 /// Only polygons of at least this share of the scene's area imprint, and are imprinted: finer
@@ -96,7 +96,7 @@ struct Outline {
     lo: DVec3,
     hi: DVec3,
     /// How far in front of (or behind) a surface it may hover and still imprint: [`NEAR`] of
-    /// its size, the distance at which [`crate::scene::near_emitters`] warns.
+    /// its size, the distance at which [`crate::scene::facing_emitters`] warns.
     reach: f64,
 }
 

@@ -15,11 +15,11 @@
 //! 6. [`local`]: the "OpenGL" local illumination model (direct light + constant ambient).
 //! 7. [`compare`]: labelled side-by-side images of several modes.
 //! 8. [`mode`]: the [`Mode`] enum over these renderers, with the settings of each.
-//! 9. [`image_error`]: how far a picture is from a reference picture (block luminance error).
+//! 9. [`block_error`]: how far a picture is from a reference picture (block luminance error).
+pub mod block_error;
 pub mod camera;
 pub mod compare;
 pub mod image;
-pub mod image_error;
 pub mod local;
 pub mod mode;
 pub mod raster;

@@ -1,25 +1,25 @@
 //! Scenes: what is lit, what it is made of, and where it is seen from.
 //!
 //! Loading runs in three stages (as pbrt-v4 and Tungsten do): [`parse`] reads the TOML into plain
-//! description structs that keep the source location of every value, [`validate`] checks them
+//! description structs that keep the source location of every value, [`check`] checks them
 //! and reports the first problem with `file:line:col` and the key, and [`build`] turns them into
 //! the frozen [`Scene`] below: planar polygons with materials, objects and cameras. A bare
 //! `.obj` file is a scene too (see [`crate::scene::import::obj`]).
 
 pub mod build;
 pub mod builtin;
+pub mod check;
 pub(crate) mod coincident;
 pub mod description;
 pub mod enclosure;
 pub mod environment;
 pub mod error;
+pub mod facing_emitters;
 pub mod frame;
 pub mod import;
-pub mod near_emitters;
 pub mod parse;
 pub mod sky;
 pub mod units;
-pub mod validate;
 
 use glam::Vec3;
 

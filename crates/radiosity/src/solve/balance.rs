@@ -3,7 +3,7 @@
 //!
 //! A gathering solver's matrix is computed row by row, at the receivers: F_is is what element
 //! i sees of source s, and the row sum Σ_s F_is what the element sees of the scene. What a
-//! source gives away is its column, with its opened pieces ([`super::near_sources`]),
+//! source gives away is its column, with its opened pieces ([`super::opened_sources`]),
 //!
 //! ```text
 //! C_s = Σ_i A_i F_is ,
@@ -157,7 +157,7 @@ fn columns(matrix: &Matrix, area: &[f64], source_of: &[u32]) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::super::matrix::Near;
-    use super::super::near_sources::Piece;
+    use super::super::opened_sources::Piece;
     use super::*;
 
     /// Four elements in three sources (elements 0–1, 2, 3); element 3 opens source 0 into its

@@ -8,7 +8,7 @@
 //! 1985 solve their system this way). It converges for the same reason as Jacobi, in about half
 //! the sweeps. The mean radiosity of the source that contains the updated element is kept
 //! current incrementally, and recomputed exactly at the start of every sweep so rounding does
-//! not accumulate. The pieces of the sources a receiver opened ([`super::near_sources`]) shine
+//! not accumulate. The pieces of the sources a receiver opened ([`super::opened_sources`]) shine
 //! the means of the sweep's start (a Jacobi step for that part: the same fixed point, a sweep or
 //! two more). A sweep is sequential, hence deterministic.
 

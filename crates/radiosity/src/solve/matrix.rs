@@ -1,6 +1,6 @@
 //! The stored form-factor matrix of the gathering solvers: one row of F_{e→s} per element (the
 //! receivers), one column per source, `f32`, row-major; and for each row the pieces of the
-//! sources it opened in its near field ([`super::near_sources`]), a few per row.
+//! sources it opened in its near field ([`super::opened_sources`]), a few per row.
 //!
 //! Its size, elements × sources × 4 bytes, is checked against the limit *before* anything is
 //! allocated, and the allocation itself is fallible, so a scene too large for memory is a
@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::near_sources::{self, Piece, Scratch};
+use super::opened_sources::{self, Piece, Scratch};
 use super::SolveError;
 use crate::formfactor::{FormFactors, Geometry};
 use crate::progress::{Progress, Work};
@@ -180,7 +180,14 @@ impl Matrix {
                         NearChunk::from_rows(block.chunks_mut(sources).enumerate().map(
                             |(k, row)| {
                                 let mut pieces = Vec::new();
-                                near_sources::row(g, ff, first + k, row, &mut pieces, &mut scratch);
+                                opened_sources::row(
+                                    g,
+                                    ff,
+                                    first + k,
+                                    row,
+                                    &mut pieces,
+                                    &mut scratch,
+                                );
                                 if g.mesh.element(first + k).near {
                                     cap_at_hemisphere(row, &mut pieces);
                                 }

@@ -50,7 +50,7 @@ pub mod gauss_seidel;
 pub mod hierarchical;
 pub mod jacobi;
 pub mod matrix;
-pub mod near_sources;
+pub mod opened_sources;
 pub mod plan;
 pub mod progressive;
 mod solver;

@@ -23,7 +23,7 @@
 //! and an element is shown as B_e + ρ_e · ambient. [`super::Solution::radiosity`] holds B
 //! without it; the ambient goes to [`super::Solution::ambient`].
 //!
-//! **Near sources are opened** as the gathering solvers open them ([`super::near_sources`]):
+//! **Near sources are opened** as the gathering solvers open them ([`super::opened_sources`]):
 //! a receiver next to a coarse source sees its parts with very different kernels, and the
 //! source's mean unshot radiosity misstates what reaches it (a source straddling the footprint
 //! of a block standing on a floor shone its lit part's light into the block: a bare OBJ block,
@@ -44,7 +44,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::checkpoint::{Iterate, Session, Shape};
-use super::near_sources::{self, Piece, Scratch};
+use super::opened_sources::{self, Piece, Scratch};
 use super::solver::{Job, Solver};
 use super::{l1, Settings, Solution, SolveError, System};
 use crate::formfactor::{FormFactors, Geometry};
@@ -279,13 +279,13 @@ struct Near {
 }
 
 impl Near {
-    /// Every receiver's opened pieces ([`near_sources::opened`]), grouped by source.
+    /// Every receiver's opened pieces ([`opened_sources::opened`]), grouped by source.
     fn find(g: &Geometry, ff: &dyn FormFactors, elements: usize) -> Self {
         let found: Vec<Vec<(u32, Piece)>> = (0..elements)
             .into_par_iter()
             .map_init(Scratch::default, |scratch, e| {
                 let mut out = Vec::new();
-                near_sources::opened(g, ff, e, &mut out, scratch);
+                opened_sources::opened(g, ff, e, &mut out, scratch);
                 out
             })
             .collect();

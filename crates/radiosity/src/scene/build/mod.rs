@@ -1,4 +1,4 @@
-//! Building: a validated [`SceneDesc`] (or an OBJ file) becomes the frozen [`Scene`].
+//! Building: a checked [`SceneDesc`] (or an OBJ file) becomes the frozen [`Scene`].
 //!
 //! Every shape is turned into planar polygons here, one build function per [`ShapeDesc`]
 //! variant: a polygon as written, a box by [`model::primitives::cuboid`], a sphere by
@@ -8,7 +8,7 @@
 //!
 //! Objects that share a name are one object (the Cornell ceiling is four quads named
 //! `ceiling`). Generated and imported faces are checked with
-//! [`super::validate::polygon_problem`]: degenerate ones are skipped and strongly non-planar
+//! [`super::check::polygon_problem`]: degenerate ones are skipped and strongly non-planar
 //! ones are split into a triangle fan, each with a counted warning, never an error.
 
 use std::collections::HashMap;
@@ -18,11 +18,11 @@ use std::sync::Arc;
 use glam::Vec3;
 use model::{PolyMesh, Transform};
 
+use super::check::{polygon_problem, PolygonProblem};
 use super::coincident::{Dropped, SeenFaces};
 use super::description::{Field, ObjectDesc, SceneDesc, ShapeDesc};
-use super::validate::{polygon_problem, PolygonProblem};
 use super::{
-    builtin, frame, near_emitters, parse, validate, Camera, Material, Object, Polygon, Scene,
+    builtin, check, facing_emitters, frame, parse, Camera, Material, Object, Polygon, Scene,
 };
 use super::{Loc, RenderDefaults, SceneError};
 use crate::scene::import::gltf_file;
@@ -73,7 +73,7 @@ impl Scene {
     /// As [`Scene::load`].
     pub fn from_toml_str(text: &str, file: &Path) -> Result<Self, SceneError> {
         let desc = parse::parse(text, file)?;
-        validate::validate(&desc)?;
+        check::check(&desc)?;
         build(&desc)
     }
 
@@ -156,7 +156,7 @@ impl Scene {
     }
 }
 
-/// Builds a validated description into a scene.
+/// Builds a checked description into a scene.
 ///
 /// # Errors
 /// A mesh file cannot be read or is malformed, or the scene ends up with no polygon.
@@ -266,7 +266,7 @@ fn build_object(b: &mut Builder, desc: &SceneDesc, o: &ObjectDesc) -> Result<(),
     Ok(())
 }
 
-/// A polygon as written (already validated), transformed.
+/// A polygon as written (already checked), transformed.
 fn build_polygon(
     b: &mut Builder,
     vertices: &[Vec3],
@@ -512,7 +512,7 @@ impl Builder {
                 .warnings
                 .push(format!("{}: {}", self.file.display(), super::sky::NO_LIGHT));
         }
-        let near = near_emitters::warnings(&self.scene, &self.file.display().to_string());
+        let near = facing_emitters::warnings(&self.scene, &self.file.display().to_string());
         self.scene.warnings.extend(near);
         self.scene.cameras = if cameras.is_empty() {
             vec![frame::frame(&self.scene.polygons, &self.scene.materials)]

@@ -21,7 +21,7 @@ use std::io::{self, Read, Write};
 use super::{Checkpoint, Iterate};
 use crate::solve::hierarchical::Snapshot;
 use crate::solve::matrix::{Matrix, Near, CHUNK_ROWS};
-use crate::solve::near_sources::Piece;
+use crate::solve::opened_sources::Piece;
 use crate::Rgb;
 
 /// The first bytes of every checkpoint file.

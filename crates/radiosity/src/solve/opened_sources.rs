@@ -1,4 +1,4 @@
-//! Near sources, opened for each receiver.
+//! Sources opened near each receiver.
 //!
 //! Substructuring (Cohen, Greenberg, Immel & Brock 1986) lets a receiver e gather a coarse
 //! source's area-weighted mean radiosity with one factor, F_es B̄_s. That is exact when the

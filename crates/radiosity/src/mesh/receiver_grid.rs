@@ -1,4 +1,4 @@
-//! The near field: elements with another surface close in front of them.
+//! A finer receiver grid where another surface lies close in front of an element.
 //!
 //! A form factor's receiver integral is a midpoint rule over an n × n grid of points on the
 //! receiver (see [`crate::formfactor`]). For a source within a couple of receiver diameters,

@@ -1,4 +1,4 @@
-//! Validation: a parsed [`SceneDesc`] is checked for meaning before anything is built.
+//! Checking: a parsed [`SceneDesc`] is checked for meaning before anything is built.
 //!
 //! Ranges follow the physics (docs/scene-format.md): a diffuse reflectance ρ must satisfy 0 ≤ ρ < 1
 //! per channel (ρ = 1 would make the radiosity system B = E + ρFB singular in a closed scene),
@@ -132,7 +132,7 @@ pub fn camera_problem(eye: Vec3, target: Vec3, up: Vec3, fov_y: f32) -> Option<C
 ///
 /// # Errors
 /// The first problem found, with `file:line:col` and key.
-pub fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
+pub fn check(desc: &SceneDesc) -> Result<(), SceneError> {
     let mut names = HashSet::new();
     for c in &desc.cameras {
         if !names.insert(c.name.value.as_str()) {

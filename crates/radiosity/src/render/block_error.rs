@@ -17,7 +17,7 @@ use crate::color::luminance;
 
 /// The error of a picture against a reference (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ImageError {
+pub struct BlockError {
     /// RMS of the blocks' relative luminance errors.
     pub rms: f64,
     /// Mean of the blocks' relative luminance errors (positive: too bright).
@@ -33,7 +33,7 @@ pub struct ImageError {
 /// the last whole block are left out); `None` if the sizes differ, the block is 0 or no block
 /// is bright enough to compare.
 #[must_use]
-pub fn block_error(image: &Image, reference: &Image, block: u32) -> Option<ImageError> {
+pub fn block_error(image: &Image, reference: &Image, block: u32) -> Option<BlockError> {
     if (image.width, image.height) != (reference.width, reference.height) || block == 0 {
         return None;
     }
@@ -67,7 +67,7 @@ pub fn block_error(image: &Image, reference: &Image, block: u32) -> Option<Image
     let mut magnitudes: Vec<f64> = relative.iter().map(|e| e.abs()).collect();
     magnitudes.sort_by(f64::total_cmp);
     let rank = ((0.99 * n).ceil() as usize).clamp(1, magnitudes.len()) - 1;
-    Some(ImageError {
+    Some(BlockError {
         rms: (relative.iter().map(|e| e * e).sum::<f64>() / n).sqrt(),
         bias: relative.iter().sum::<f64>() / n,
         p99: magnitudes[rank],
