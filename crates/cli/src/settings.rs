@@ -3,7 +3,7 @@
 use radiosity::formfactor;
 use radiosity::mesh::Subdivision;
 use radiosity::pipeline;
-use radiosity::render::raytrace::evaluate::display_refinement;
+use radiosity::render::display_refinement;
 use radiosity::solve;
 
 use crate::args::{CommonArgs, Quality};

@@ -11,7 +11,7 @@ use crate::formfactor::{self, Geometry};
 use crate::mesh::{display, LitMesh, Mesh, Subdivision};
 use crate::progress::{Progress, Work};
 use crate::registry::registry;
-use crate::render::raytrace::evaluate::display_refinement;
+use crate::render::display_refinement;
 use crate::render::{Image, Mode, RasterSettings, Watch};
 use crate::scene::Camera;
 use crate::solve::checkpoint::{hash_text, Control};

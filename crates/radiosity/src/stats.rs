@@ -84,8 +84,7 @@ pub struct Timings {
     pub form_factors: f64,
     /// The solver's iterations.
     pub solve: f64,
-    /// Evaluating and refining the lit mesh for display (`render::raytrace::evaluate::
-    /// display_refinement`); the key is left out where the lit mesh is the elements' averages
+    /// Evaluating and refining the lit mesh for display (`render::display_refinement`); the key is left out where the lit mesh is the elements' averages
     /// (as for `render` in its default mode without `--export`, which does not show it).
     #[serde(skip_serializing_if = "no_time")]
     pub display: f64,

@@ -9,6 +9,7 @@ use radiosity::mesh::Subdivision;
 use radiosity::pipeline::{self, Settings, Solved};
 use radiosity::progress::Silent;
 use radiosity::render::block_error::block_error;
+use radiosity::render::evaluated;
 use radiosity::render::local::{self, LocalSettings};
 use radiosity::render::raytrace::optics::{fresnel_dielectric, reflect, refract};
 use radiosity::render::raytrace::{self, RaytraceSettings, Watch};
@@ -59,7 +60,7 @@ fn trace(s: &Solved, size: u32, settings: &RaytraceSettings) -> Image {
 
 /// The evaluated render (`--mode final`) of `s` through its first camera.
 fn evaluate(s: &Solved, raster: &RasterSettings, settings: &RaytraceSettings) -> Image {
-    raytrace::evaluate::render(
+    evaluated::render(
         &s.scene,
         &s.mesh,
         &s.solution,
@@ -384,7 +385,7 @@ fn the_evaluated_render_of_a_glowing_cube_is_uniform_into_its_corners() {
     // Every wall of a closed cube emits L = 1 and reflects ρ = 0.5: B = πL / (1 − ρ) = 2π
     // everywhere, so the picture is L = 2 at every pixel. Seen into a corner, the near part of
     // the indirect light takes most of the view there, and the far part must give way exactly
-    // as much (see `render::raytrace::evaluate`): any mismatch shows as a band along the edges.
+    // as much (see `render::evaluated`): any mismatch shows as a band along the edges.
     let mut toml = String::from(
         "[camera]\neye = [0.5, 0.5, 0.5]\ntarget = [1.0, 1.0, 1.0]\nup = [0.0, 1.0, 0.0]\n\
          fov_y = 90.0\n[materials.glow]\nreflectance = 0.5\nemission = 1.0\n",

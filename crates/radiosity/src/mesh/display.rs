@@ -319,7 +319,7 @@ fn edge_points(
 /// and so do the planar pieces of one non-planar polygon (see [`super::patch`]), whose shared
 /// diagonal must stay crack-free too. The lit mesh shares its vertices within a surface, so
 /// whatever is interpolated over it must be split the same way on all of the surface's patches
-/// (the near field's reach, `render::raytrace::evaluate`).
+/// (the near field's reach, `render::evaluated`).
 pub(crate) fn surfaces(mesh: &Mesh) -> Vec<u32> {
     let mut pieces: HashMap<(u32, bool), u32> = HashMap::new();
     for p in &mesh.patches {

@@ -12,13 +12,20 @@
 //! 4. [`tonemap`]: exposure and the sRGB transfer function, for 8-bit output.
 //! 5. [`raytrace`]: a Whitted ray tracer over the lit mesh (two-pass: specular paths on top of
 //!    the radiosity solution), with optional final gather.
-//! 6. [`local`]: the "OpenGL" local illumination model (direct light + constant ambient).
-//! 7. [`compare`]: labelled side-by-side images of several modes.
-//! 8. [`mode`]: the [`Mode`] enum over these renderers, with the settings of each.
-//! 9. [`block_error`]: how far a picture is from a reference picture (block luminance error).
+//! 6. [`evaluated`]: the default picture, the solution evaluated at each visible point (exact
+//!    direct light, the near field gathered at the point, the rest interpolated), traced by
+//!    [`raytrace`].
+//! 7. [`display_refinement`]: the lit mesh with that evaluation at its vertices, split where
+//!    interpolation misses: what the exports show.
+//! 8. [`local`]: the "OpenGL" local illumination model (direct light + constant ambient).
+//! 9. [`compare`]: labelled side-by-side images of several modes.
+//! 10. [`mode`]: the [`Mode`] enum over these renderers, with the settings of each.
+//! 11. [`block_error`]: how far a picture is from a reference picture (block luminance error).
 pub mod block_error;
 pub mod camera;
 pub mod compare;
+pub mod display_refinement;
+pub mod evaluated;
 pub mod image;
 pub mod local;
 pub mod mode;

@@ -12,8 +12,9 @@
 //! | [`Mode::Radiosity`] | the z-buffer rasterizer ([`super::raster`]) | none beyond [`super::RasterSettings`] | the lit mesh |
 //! | [`Mode::Local`] | local illumination ([`super::local`]) | [`LocalSettings`] | geometry and emitters |
 //! | [`Mode::Raytrace`] | the Whitted ray tracer ([`super::raytrace`]) | [`RaytraceSettings`] | the lit mesh |
-//! | [`Mode::Final`] | the solution evaluated at each visible point ([`super::raytrace::evaluate`]) | [`RaytraceSettings`] | the element radiosity |
+//! | [`Mode::Final`] | the solution evaluated at each visible point ([`super::evaluated`]) | [`RaytraceSettings`] | the element radiosity |
 
+use super::evaluated;
 use super::local::{self, LocalSettings};
 use super::raytrace::{self, RaytraceSettings};
 use super::{Image, RasterSettings, Watch};
@@ -139,7 +140,7 @@ impl Mode {
                 raytrace::render(scene, mesh, lit, camera, raster, settings, watch)
             }
             Mode::Final(settings) => {
-                raytrace::evaluate::render(scene, mesh, solution, camera, raster, settings, watch)
+                evaluated::render(scene, mesh, solution, camera, raster, settings, watch)
             }
         }
     }

@@ -165,7 +165,7 @@ pub struct Solution {
     /// (B̄_s − Ē_s): the irradiance less the light straight from the emitters, through the same
     /// form factors, so that the error of those form factors (shadow rays in penumbrae) stays
     /// in the direct part, which the evaluated picture recomputes exactly
-    /// (`render::raytrace::evaluate`). `None` where the solver does not keep it (progressive
+    /// (`render::evaluated`). `None` where the solver does not keep it (progressive
     /// refinement; hierarchical radiosity keeps it for its refined mesh, [`Refined`]).
     pub reflected_irradiance: Option<Vec<Rgb>>,
     /// The solver used.

@@ -1,6 +1,6 @@
 //! Coverage of a pixel by the surfaces it sees, sampled finely only where the surface changes.
 //!
-//! The evaluated picture ([`super::evaluate`]) computes its costly light once per pixel and
+//! The evaluated picture ([`super::super::evaluated`]) computes its costly light once per pixel and
 //! surface side, so what its primary rays buy is each pixel's *coverage*: the fraction c_K of
 //! the pixel's area in which kind K (one side of one patch, or the background) is seen. The
 //! pixel is Σ_K c_K L_K, and its error at an edge is the error of the c_K. A jittered n × n grid

@@ -43,7 +43,6 @@
 //! the image is the same for any number of threads ([`sample`]).
 
 pub mod coverage;
-pub mod evaluate;
 pub mod optics;
 pub mod sample;
 pub mod world;
@@ -51,10 +50,10 @@ pub mod world;
 use glam::Vec3;
 
 use self::coverage::{render_covered, Kind};
-use self::evaluate::Evaluation;
 use self::optics::{fresnel_dielectric, reflect, refract};
 use self::sample::{grid_side, render_tiles, Sampler};
 use self::world::{SurfaceHit, World};
+use super::evaluated::Evaluation;
 use super::{Image, Projection, RasterSettings};
 use crate::mesh::{LitMesh, Mesh};
 pub use crate::render::watch::Watch;
@@ -120,8 +119,8 @@ pub fn render(
 }
 
 /// Traces the image of `world` through `camera`, with `evaluation` at the diffuse hits if given
-/// (see [`Tracer::evaluation`]). Shared by [`render`] and [`evaluate::render`].
-fn trace_image(
+/// (see [`Tracer::evaluation`]). Shared by [`render`] and [`super::evaluated::render`].
+pub(super) fn trace_image(
     world: &World,
     evaluation: Option<&Evaluation>,
     camera: &Camera,
@@ -171,7 +170,7 @@ struct Group {
     rays: Vec<((u32, f32, f32), Rgb, u32)>,
 }
 
-/// The evaluated image ([`evaluate`]), its pixels antialiased by coverage: every primary ray
+/// The evaluated image ([`super::evaluated`]), its pixels antialiased by coverage: every primary ray
 /// finds what it hits, but the costly evaluation at the point (exact direct light with shadow
 /// rays, the near field) runs once per pixel and surface side, at the weighted mean of the rays
 /// that hit it; each ray adds its own interpolated far part and emission. Where the surface
@@ -275,12 +274,12 @@ fn render_evaluated(
     )
 }
 
-/// The radiance of an evaluated diffuse point ([`evaluate`]): its emission, the radiosity
+/// The radiance of an evaluated diffuse point ([`super::evaluated`]): its emission, the radiosity
 /// evaluated at the point (`at_point`, direct and near light) over π, and the interpolated
 /// radiance `far` of the lit mesh in the share of the view the near field leaves it. The far
 /// part may dip below zero where an element's mean of the point terms exceeds the solution's;
 /// radiance never does.
-fn evaluated_radiance(emitted: Rgb, at_point: Rgb, far: Rgb, share: f64) -> Rgb {
+pub(super) fn evaluated_radiance(emitted: Rgb, at_point: Rgb, far: Rgb, share: f64) -> Rgb {
     (emitted + at_point / std::f64::consts::PI + far * (1.0 - share)).max(Rgb::ZERO)
 }
 
@@ -317,7 +316,7 @@ struct Tracer<'a> {
     settings: &'a RaytraceSettings,
     /// With an evaluation, every diffuse hit adds the direct light and the near indirect
     /// light, evaluated at the point, to the lit mesh's (far indirect) radiosity
-    /// ([`evaluate`]).
+    /// ([`super::evaluated`]).
     evaluation: Option<&'a Evaluation>,
 }
 

@@ -5,7 +5,7 @@
 //! elements around it, so the exports and `--mode radiosity` show the mesh: corners too bright
 //! (the mean of an element cannot darken into the corner within it), shadows as soft as the
 //! elements are large, halos around contact shadows. The evaluated picture
-//! ([`super::render`]) fixes that per pixel; a baked model needs it per vertex. So here every
+//! ([`super::evaluated::render`]) fixes that per pixel; a baked model needs it per vertex. So here every
 //! vertex takes the value the evaluated picture shows at its point (Cohen & Wallace 1993, §9.3:
 //! radiosity at vertices "by gathering" instead of by averaging),
 //!
@@ -14,7 +14,7 @@
 //! ```
 //!
 //! with the exact direct light E_d, the near field N and its share S of the view, and the far
-//! part R interpolated (the module docs of [`super`]). Between vertices a renderer interpolates
+//! part R interpolated (the module docs of [`super::evaluated`]). Between vertices a renderer interpolates
 //! linearly, so each edge is then tested at its midpoint m against the interpolation of its ends
 //! a and b, in the unit of the picture's error, relative luminance (Y of Rec. 709):
 //!
@@ -43,9 +43,9 @@ use std::collections::HashMap;
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::super::sample::Sampler;
-use super::super::world::World;
-use super::{prepare, Evaluation};
+use super::evaluated::{prepare, Evaluation};
+use super::raytrace::sample::Sampler;
+use super::raytrace::world::World;
 use crate::color::luminance;
 use crate::mesh::{LitMesh, Mesh};
 use crate::progress::Work;
@@ -63,7 +63,7 @@ pub struct Settings {
     pub depth: u32,
     /// The most vertices, as a multiple of the unrefined lit mesh's.
     pub budget: f64,
-    /// Shadow rays per luminaire at each vertex (see [`super::super::RaytraceSettings`]).
+    /// Shadow rays per luminaire at each vertex (see [`super::raytrace::RaytraceSettings`]).
     pub shadow_samples: u32,
 }
 
@@ -73,7 +73,7 @@ impl Default for Settings {
             tolerance: 0.01,
             depth: 4,
             budget: 8.0,
-            shadow_samples: super::super::RaytraceSettings::default().shadow_samples,
+            shadow_samples: super::raytrace::RaytraceSettings::default().shadow_samples,
         }
     }
 }
@@ -423,7 +423,7 @@ mod tests {
     /// the floor lights reflects, so its radiosity is the direct light alone, in closed form
     /// (see [`exact`]).
     fn shadow_scene() -> String {
-        let mut text = super::super::tests::SHADOW.to_owned();
+        let mut text = super::super::evaluated::tests::SHADOW.to_owned();
         for (from, to) in [
             (
                 "name = \"blocker\"\nmaterial = \"floor\"",

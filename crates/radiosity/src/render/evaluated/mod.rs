@@ -86,9 +86,8 @@
 //! as the floor in front of it does), the furnished room 0.36 → 0.36 / 0.35 %.
 //!
 //! The solve stays viewer-independent; only the picture is evaluated per point. Mirrors and
-//! glass are traced as by [`super::render`].
+//! glass are traced as by [`super::raytrace::render`].
 
-pub mod display_refinement;
 mod luminaires;
 mod near_field;
 mod wanted;
@@ -98,9 +97,10 @@ use rayon::prelude::*;
 
 use self::luminaires::{Luminaires, PENUMBRA_REFINE, PIECE_PENUMBRA_REFINE};
 use self::near_field::{NearField, PIECES};
-use super::sample::Sampler;
-use super::world::World;
-use super::{trace_image, RaytraceSettings, Watch};
+use super::raytrace::sample::Sampler;
+use super::raytrace::world::World;
+use super::raytrace::{trace_image, RaytraceSettings};
+use super::Watch;
 use crate::accel::Bvh;
 use crate::formfactor::exposure;
 use crate::mesh::{display, LitMesh, Mesh};
@@ -256,7 +256,7 @@ pub fn render(
 /// `view` (camera and image), only the elements its picture can read are settled
 /// ([`wanted`]); without one (the exported mesh), all. Reported to `watch` as the stage
 /// "evaluation", in elements settled; `None` if its stop flag was set.
-fn prepare(
+pub(super) fn prepare(
     scene: &Scene,
     mesh: &Mesh,
     solution: &Solution,
@@ -407,14 +407,14 @@ fn far_radiosity(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use std::path::Path;
 
     use super::*;
     use crate::mesh::Subdivision;
 
     /// A 0.2 × 0.2 light at y = 2 facing down, a 0.6 × 0.6 blocker at y = 1, a floor at y = 0.
-    pub(super) const SHADOW: &str = r#"
+    pub(in crate::render) const SHADOW: &str = r#"
 [materials.floor]
 reflectance = 0.5
 [materials.light]
@@ -505,7 +505,12 @@ vertices = [[-0.3, 2, -0.4], [0.3, 2, -0.4], [0.3, 2, 0.4], [-0.3, 2, 0.4]]
             );
             (
                 world.patch(at.0),
-                super::super::evaluated_radiance(Rgb::ZERO, at_point, world.radiance(at), share),
+                super::super::raytrace::evaluated_radiance(
+                    Rgb::ZERO,
+                    at_point,
+                    world.radiance(at),
+                    share,
+                ),
             )
         };
         // The diagonal runs from (x, z) = (-1, -1) to (0.2, 1); its midpoint is (-0.4, 0), and

@@ -4,10 +4,10 @@
 
 use glam::{DVec3, Vec3};
 
-use super::super::sample::Sampler;
-use super::super::world::World;
 use crate::formfactor::analytic::point_to_polygon;
 use crate::mesh::{Face, Mesh};
+use crate::render::raytrace::sample::Sampler;
+use crate::render::raytrace::world::World;
 use crate::Rgb;
 
 /// How much finer, on each side, the shadow-ray grid is where the first grid's rays disagree,
