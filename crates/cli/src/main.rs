@@ -37,7 +37,6 @@ mod interrupt;
 mod job;
 mod picture;
 mod progress;
-mod reference_suite;
 mod settings;
 mod solver;
 mod validate;

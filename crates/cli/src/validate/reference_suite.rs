@@ -22,8 +22,8 @@ use radiosity::progress::{Progress, Silent, Work};
 use radiosity::stats::Timings;
 use radiosity::{formfactor, solve, Scene};
 
+use super::Row;
 use crate::solver::Solver;
-use crate::validate::Row;
 
 /// Largest accepted relative error of any object's radiosity in any channel.
 pub const TOLERANCE: f64 = 0.01;
@@ -116,7 +116,7 @@ fn read_reference(file: &Path) -> anyhow::Result<ReferenceFile> {
                 .ok_or_else(|| bad("an object without `name`"))?;
             let rgb = o["radiosity"]
                 .as_array()
-                .and_then(|v| crate::validate::rgb(v))
+                .and_then(|v| super::rgb(v))
                 .ok_or_else(|| bad(&format!("`{name}` has no radiosity [r, g, b]")))?;
             Ok(Reference {
                 name: name.to_owned(),

@@ -35,6 +35,8 @@
 //!   (floor) and 0.12 % elsewhere. Hence the tolerance 1.5 % ≥ 0.7 % + 3 × 0.2 %.
 //!
 
+mod reference_suite;
+
 use std::io::{IsTerminal, Write};
 
 use clap::{Args, ValueEnum};
@@ -47,7 +49,6 @@ use radiosity::scene::{Material, Object, Polygon};
 use radiosity::stats::{Stats, Timings};
 use radiosity::{solve, testing, Rgb, Scene};
 
-use crate::reference_suite;
 use crate::solver::Solver;
 
 /// `radiosity validate`.
@@ -262,7 +263,7 @@ fn suite() -> anyhow::Result<Vec<Row>> {
 }
 
 /// Output of `benches/cornell_reference.py` (Mitsuba 3 on `scenes/cornell/scene.toml`).
-const CORNELL_REFERENCE: &str = include_str!("../data/cornell_reference.json");
+const CORNELL_REFERENCE: &str = include_str!("../../data/cornell_reference.json");
 
 /// Elements of our Cornell box solve (948 after quadtree rounding): under a second in release.
 const CORNELL_ELEMENTS: usize = 1000;
