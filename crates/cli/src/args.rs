@@ -1,6 +1,7 @@
 //! Command-line arguments (clap derive) and the parsers of their values.
 
 use std::path::PathBuf;
+use std::time::Duration;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use radiosity::formfactor;
@@ -8,6 +9,7 @@ use radiosity::io::gltf::VertexColours;
 use radiosity::pipeline::DisplayKind;
 use radiosity::render::ModeKind;
 
+use crate::progress::Reporting;
 use crate::solver::Solver;
 
 /// Global illumination by radiosity: solve a scene once, then render it from any camera or
@@ -464,6 +466,16 @@ pub struct RunArgs {
     /// at each phase and at every step).
     #[arg(long, value_name = "SECONDS", default_value_t = 10.0, value_parser = interval)]
     pub progress_every: f64,
+}
+
+impl RunArgs {
+    /// The reporting its flags ask for: `--quiet` and `--progress-every`.
+    pub fn reporting(&self) -> Reporting {
+        Reporting {
+            quiet: self.quiet,
+            every: Duration::from_secs_f64(self.progress_every),
+        }
+    }
 }
 
 /// `radiosity bench`.

@@ -14,7 +14,6 @@ use radiosity::Rgb;
 use crate::args::CompareArgs;
 use crate::job;
 use crate::picture;
-use crate::progress::Reporting;
 
 /// `radiosity compare`.
 pub fn run(args: &CompareArgs) -> Result<()> {
@@ -55,7 +54,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
                 &raster,
                 args.gather,
                 true,
-                Reporting::of(&common.run),
+                common.run.reporting(),
             )?;
             panels.push((label, image));
             job::say(

@@ -29,7 +29,6 @@ use radiosity::Scene;
 use crate::args::{CommonArgs, FrameArgs, RenderArgs, SolveArgs, ViewArgs};
 use crate::interrupt::{stop_flag, Interrupted};
 use crate::picture;
-use crate::progress::Reporting;
 use crate::settings;
 use crate::solver::Solver;
 
@@ -124,7 +123,7 @@ fn render_job(args: &RenderArgs) -> Result<()> {
         args.outputs.clone()
     };
     if args.mode == ModeKind::Local {
-        let reporting = Reporting::of(&common.run);
+        let reporting = common.run.reporting();
         let image = picture::render_local(&scene, &camera, &raster, !args.no_shadows, reporting)?;
         let exposure = args
             .exposure
@@ -166,7 +165,7 @@ fn render_job(args: &RenderArgs) -> Result<()> {
         &raster,
         args.gather,
         !args.no_shadows,
-        Reporting::of(&common.run),
+        common.run.reporting(),
     )?;
     let exposure = args
         .exposure
@@ -283,7 +282,7 @@ fn pick_camera(scene: &Scene, name: Option<&str>, view: &ViewArgs) -> Result<Cam
 }
 
 /// Meshes, computes form factors and solves, reporting the stages on stderr
-/// ([`Reporting::on_stderr`]: bars on a terminal, lines otherwise).
+/// ([`crate::progress::Reporting::on_stderr`]: bars on a terminal, lines otherwise).
 /// Ctrl-C stops the solve (see [`Interrupted`]); `--checkpoint` and `--resume` apply. The lit
 /// mesh is refined for display (`--display`) only if `shows_lit`: something will show it.
 pub(crate) fn run_solve(scene: Scene, common: &CommonArgs, shows_lit: bool) -> Result<Solved> {
@@ -292,7 +291,7 @@ pub(crate) fn run_solve(scene: Scene, common: &CommonArgs, shows_lit: bool) -> R
         settings.display = pipeline::Display::Averaged;
     }
     let control = control(common)?;
-    let progress = Reporting::of(&common.run).on_stderr();
+    let progress = common.run.reporting().on_stderr();
     let solved = pipeline::solve_controlled(scene, &settings, &control, &progress);
     if let Ok(solved) = &solved {
         let subdivision = common.mesh.elements.is_some() || common.mesh.max_element_area.is_some();

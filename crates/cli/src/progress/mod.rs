@@ -11,8 +11,6 @@ pub use bars::Bars;
 pub use lines::Lines;
 use radiosity::progress::{Progress, Work};
 
-use crate::args::RunArgs;
-
 /// How a run reports its stages: `--quiet` and `--progress-every`.
 #[derive(Clone, Copy, Debug)]
 pub struct Reporting {
@@ -23,14 +21,6 @@ pub struct Reporting {
 }
 
 impl Reporting {
-    /// The reporting `run`'s flags ask for.
-    pub fn of(run: &RunArgs) -> Self {
-        Self {
-            quiet: run.quiet,
-            every: Duration::from_secs_f64(run.progress_every),
-        }
-    }
-
     /// The reporter for stderr as it is: nothing when quiet, bars on a terminal, else lines.
     pub fn on_stderr(self) -> Stderr {
         if self.quiet {
