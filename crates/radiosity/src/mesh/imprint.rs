@@ -20,7 +20,7 @@
 
 use glam::{DVec3, Vec3};
 
-use super::patch::root_faces;
+use super::root_faces::{is_planar, root_faces};
 use super::triangulate::is_convex;
 use super::Face;
 use crate::scene::facing_emitters::NEAR;
@@ -84,7 +84,7 @@ pub(super) fn convex_normal(vertices: &[Vec3], large: f64) -> Option<Vec3> {
     let vector = model::polymesh::vector_area(vertices);
     let normal = vector.normalize_or_zero();
     (f64::from(vector.length()) >= large
-        && super::patch::is_planar(vertices, normal)
+        && is_planar(vertices, normal)
         && is_convex(vertices, normal))
     .then_some(normal)
 }

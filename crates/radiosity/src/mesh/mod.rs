@@ -23,6 +23,7 @@ pub mod lit_mesh;
 mod node;
 mod patch;
 mod receiver_grid;
+mod root_faces;
 mod shadow;
 mod sources;
 mod triangulate;
