@@ -46,6 +46,7 @@ use rayon::prelude::*;
 use super::evaluated::{prepare, Evaluation};
 use super::raytrace::sample::Sampler;
 use super::raytrace::world::World;
+use super::raytrace::PointEvaluation;
 use crate::color::luminance;
 use crate::mesh::{LitMesh, Mesh};
 use crate::progress::Work;

@@ -99,7 +99,7 @@ use self::luminaires::{Luminaires, PENUMBRA_REFINE, PIECE_PENUMBRA_REFINE};
 use self::near_field::{NearField, PIECES};
 use super::raytrace::sample::Sampler;
 use super::raytrace::world::World;
-use super::raytrace::{trace_image, RaytraceSettings};
+use super::raytrace::{trace_image, PointEvaluation, RaytraceSettings};
 use super::Watch;
 use crate::accel::Bvh;
 use crate::formfactor::exposure;
@@ -132,12 +132,11 @@ pub(super) struct Evaluation {
     scale: Vec<Rgb>,
 }
 
-impl Evaluation {
+impl PointEvaluation for Evaluation {
     /// ρ · (E_d + k N) at a point of `patch` (at barycentrics `at` of a triangle of the far
     /// part's lit mesh, where k is interpolated), and the share of its view that the near
     /// field takes from the far part.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn radiosity(
+    fn radiosity(
         &self,
         world: &World,
         mesh: &Mesh,
@@ -155,7 +154,9 @@ impl Evaluation {
         let scale = world.interpolated(&self.scale, at);
         (rho * (direct + scale * near), share)
     }
+}
 
+impl Evaluation {
     /// The far part R of every element's indirect light and B − E at its pieces (see
     /// [`far_radiosity`]), the pieces then shown to the near field. Reported to `watch` as the
     /// stage "evaluation": the wanted elements, twice (the two passes); `None` if stopped.

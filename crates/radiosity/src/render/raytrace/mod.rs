@@ -53,7 +53,6 @@ use self::coverage::{render_covered, Kind};
 use self::optics::{fresnel_dielectric, reflect, refract};
 use self::sample::{grid_side, render_tiles, Sampler};
 use self::world::{SurfaceHit, World};
-use super::evaluated::Evaluation;
 use super::{Image, Projection, RasterSettings};
 use crate::mesh::{LitMesh, Mesh};
 pub use crate::render::watch::Watch;
@@ -118,11 +117,31 @@ pub fn render(
     trace_image(&world, None, camera, image, settings, watch)
 }
 
+/// Light evaluated at a diffuse point instead of read from the lit mesh: what the evaluated
+/// picture ([`super::evaluated`]) puts at every diffuse point it shows, seen directly or in a
+/// mirror.
+pub(super) trait PointEvaluation: Sync {
+    /// The radiosity evaluated at `point` of `patch` (at barycentrics `at` of a triangle of the
+    /// lit mesh), with `samples` shadow rays per luminaire, and the share of the point's view
+    /// that this takes from the lit mesh's interpolated radiosity.
+    #[allow(clippy::too_many_arguments)]
+    fn radiosity(
+        &self,
+        world: &World,
+        mesh: &Mesh,
+        point: Vec3,
+        normal: Vec3,
+        at: (u32, (u32, f32, f32)),
+        samples: u32,
+        sampler: &mut Sampler,
+    ) -> (Rgb, f64);
+}
+
 /// Traces the image of `world` through `camera`, with `evaluation` at the diffuse hits if given
 /// (see [`Tracer::evaluation`]). Shared by [`render`] and [`super::evaluated::render`].
 pub(super) fn trace_image(
     world: &World,
-    evaluation: Option<&Evaluation>,
+    evaluation: Option<&dyn PointEvaluation>,
     camera: &Camera,
     image: &RasterSettings,
     settings: &RaytraceSettings,
@@ -182,7 +201,7 @@ struct Group {
 /// against Mitsuba 3, the blob itself within 0.5 %).
 fn render_evaluated(
     tracer: &Tracer,
-    evaluation: &Evaluation,
+    evaluation: &dyn PointEvaluation,
     camera: &Camera,
     image: &RasterSettings,
     watch: &Watch,
@@ -317,7 +336,7 @@ struct Tracer<'a> {
     /// With an evaluation, every diffuse hit adds the direct light and the near indirect
     /// light, evaluated at the point, to the lit mesh's (far indirect) radiosity
     /// ([`super::evaluated`]).
-    evaluation: Option<&'a Evaluation>,
+    evaluation: Option<&'a dyn PointEvaluation>,
 }
 
 impl Tracer<'_> {
