@@ -2,7 +2,7 @@
 //!
 //! Plain structs, one per table of the format (docs/scene-format.md), in which every value keeps where
 //! it was written ([`Field`]: its 1-based line and column and its dotted key path), so that
-//! [`super::validate`] and [`super::build`] can point at the exact spot of a problem, as
+//! [`super::check`] and [`super::build`] can point at the exact spot of a problem, as
 //! pbrt-v4's scene entities keep their `FileLoc`.
 //!
 //! Shapes are a closed enum, [`ShapeDesc`]: a new kind of object (a Bézier patch, a CSG tree)

@@ -7,7 +7,7 @@
 //! and fills the description structs. Serde's derive cannot do the second step alone: the
 //! `shape` key selects which other keys an object has, and internally tagged enums lose spans.
 //!
-//! Meaning (ranges, material names, polygon shapes) is checked later, in [`super::validate`].
+//! Meaning (ranges, material names, polygon shapes) is checked later, in [`super::check`].
 
 mod sdf;
 mod shape;
