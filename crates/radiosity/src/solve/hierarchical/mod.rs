@@ -296,6 +296,7 @@ pub fn run(
             node_probed: std::mem::take(&mut state.node_probed),
             node_open: std::mem::take(&mut state.node_open),
             node_shine: std::mem::take(&mut state.node_shine),
+            node_gain: std::mem::take(&mut state.node_gain),
             ..snap.state.clone()
         };
         (links, splits, peak) = (snap.links.clone(), snap.splits.clone(), snap.peak);
@@ -414,6 +415,7 @@ pub fn run(
                     node_probed: Vec::new(),
                     node_open: Vec::new(),
                     node_shine: Vec::new(),
+                    node_gain: Vec::new(),
                     ..state.clone()
                 },
                 history: out.history.clone(),

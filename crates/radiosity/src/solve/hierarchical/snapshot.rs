@@ -79,6 +79,7 @@ impl Snapshot {
             node_probed: Vec::new(),
             node_open: Vec::new(),
             node_shine: Vec::new(),
+            node_gain: Vec::new(),
             cluster_b: d.rgbs()?,
             cluster_n: read_directional(d)?,
             cluster_h: d.rgbs()?,
