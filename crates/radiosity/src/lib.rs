@@ -17,6 +17,42 @@
 //! 7. [`io`]: mesh files in, images out.
 //!
 //! [`pipeline`] strings them together and [`stats`] reports what happened.
+//!
+//! ## The library road: scene → solve → image
+//!
+//! ```
+//! use radiosity::mesh::Subdivision;
+//! use radiosity::pipeline::{self, Settings};
+//! use radiosity::progress::Silent;
+//! use radiosity::render::{self, RasterSettings};
+//! use radiosity::Scene;
+//!
+//! // A built-in scene by name, or a file (.toml, .obj, .gltf, .glb, Mitsuba .xml): here the
+//! // furnace, a closed unit cube of reflectance 0.5 whose ceiling emits radiance 1.
+//! let scene = Scene::resolve("furnace")?;
+//!
+//! // Solve: light at equilibrium, whatever the camera.
+//! let settings = Settings {
+//!     subdivision: Subdivision::Elements(96),
+//!     ..Settings::default()
+//! };
+//! let solved = pipeline::solve(scene, &settings, &Silent)?;
+//!
+//! // A closed scene of uniform ρ keeps its energy: Σ A B = Σ A E / (1 − ρ) = π / 0.5.
+//! let power: f64 = (0..solved.mesh.element_count())
+//!     .map(|e| solved.mesh.element(e).area() * solved.solution.radiosity[e].x)
+//!     .sum();
+//! assert!((power - 2.0 * std::f64::consts::PI).abs() < 1e-2 * power);
+//!
+//! // Render the lit mesh from the scene's camera: radiance per pixel.
+//! let camera = &solved.scene.cameras[0];
+//! let image = render::render(&solved.lit, camera, &RasterSettings::default());
+//! assert_eq!(image.pixels.len(), (image.width * image.height) as usize);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! `radiosity render` does the same from the command line, and then evaluates the solution at
+//! every visible point (`render::evaluated`) for the default picture.
 // `unsafe` only in `accel::isa` (run-time instruction-set dispatch, a cache prefetch and a
 // `movmskps` hit mask) and `accel::pages` (one `madvise` for transparent huge pages).
 #![deny(unsafe_code)]
