@@ -197,11 +197,12 @@ impl State {
     /// door handle), and their neighbours undershoot: over an object, rows mostly balance.
     /// Where an overshooting row makes the element's gain ρ Σ F (largest channel) exceed 1,
     /// the element amplifies what it gathers, and a group of such elements made the gather
-    /// diverge (veach-ajar at ε = 3·10⁻⁵, to NaN). Their gathered irradiance is scaled so that the gain is [`GAIN`]; the other rows
-    /// are left as they are. The price is a bias where many rows are capped: a closed room of
-    /// ρ = 0.95 with a faceted ball in it absorbs 0.983 of what it emits at ε = 10⁻⁵ (1.006
-    /// uncapped) and 1.002 at ε = 10⁻⁴ (0.999); scaling every overshooting row to 1 instead
-    /// gave 0.961 (the undershooting rows that balance them keep their deficit).
+    /// diverge (veach-ajar at ε = 3·10⁻⁵, to NaN). Their gathered irradiance is scaled so that
+    /// the gain is [`GAIN`]; the other rows are left as they are. The price is a bias where
+    /// many rows are capped: a closed room of ρ = 0.95 with a faceted ball in it absorbs 0.983
+    /// of what it emits at ε = 10⁻⁵ (1.006 uncapped) and 1.002 at ε = 10⁻⁴ (0.999); scaling
+    /// every overshooting row to 1 instead gave 0.961 (the undershooting rows that balance
+    /// them keep their deficit).
     pub fn bury_rows(&mut self, mesh: &Mesh, rows: &[f64]) {
         for (&e, &row) in mesh.elements.iter().zip(rows) {
             let e = e as usize;
@@ -605,6 +606,7 @@ fn toward(clusters: &Clusters, c: usize, w: &[f64; 6]) -> Option<f64> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::link::Sight;
     use super::*;
     use crate::mesh::Subdivision;
     use crate::testing::Prepared;
@@ -620,8 +622,7 @@ mod tests {
         let bvh = Bvh::build(&mesh.triangles);
         let clusters = Clusters::build(&mesh);
         let face = |k: usize| Handle::node(mesh.elements[k]);
-        let link =
-            |r, s, f| Link::new(face(r), face(s), f, 0.0, super::super::link::Sight::Unknown);
+        let link = |r, s, f| Link::new(face(r), face(s), f, 0.0, Sight::Unknown);
         let mut links = vec![link(0, 1, 1.5), link(1, 0, 1.5), link(0, 2, 0.1)];
         links.sort_unstable_by_key(|l| (l.receiver, l.source));
         let mut state = State::new(&mesh, &clusters, &bvh);
