@@ -21,21 +21,9 @@
 //!   own siblings.
 //! - A cycle in that graph, in any folder, fails the test, naming the folder and the files in
 //!   order.
-//!
-//! One edge is still known and left out of the search, in [`KNOWN`], with why it remains; the
-//! test fails once it is gone, so that the exception goes with it.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-
-/// Dependencies still to be broken: crate, folder, file, the sibling it imports.
-///
-/// The checkpoint's `Iterate` holds the hierarchical solver's `Snapshot`, a type of
-/// `solve/hierarchical/snapshot.rs`, while that solver saves and resumes through `checkpoint`.
-/// The fix is to give the checkpoint the snapshot's data type and leave `hierarchical/` the
-/// conversion of its state to and from it, an edit of `hierarchical/` itself.
-const KNOWN: &[(&str, &[&str], &str, &str)] =
-    &[("radiosity", &["solve"], "checkpoint", "hierarchical")];
 
 /// A source file: its module path within its crate, and its text.
 struct Module {
@@ -251,32 +239,21 @@ fn cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
         .find_map(|node| visit(node, graph, &mut Vec::new(), &mut done))
 }
 
-/// Every cycle found, one line per folder: `crate folder: a -> b -> a`; the edges of
-/// [`KNOWN`] left out, and each one not found named too.
+/// Every cycle found, one line per folder: `crate folder: a -> b -> a`.
 fn cycles(krate: &str, modules: &[Module]) -> Vec<String> {
-    let mut graphs = graphs(modules);
-    let mut found = Vec::new();
-    for &(_, folder, from, to) in KNOWN.iter().filter(|k| k.0 == krate) {
-        let folder: Vec<String> = folder.iter().map(|s| (*s).to_owned()).collect();
-        let edges = graphs.get_mut(&folder).and_then(|g| g.get_mut(from));
-        if !edges.is_some_and(|e| e.remove(to)) {
-            found.push(format!(
-                "{krate} src/{}: {from} -> {to} is gone: remove it from KNOWN",
-                folder.join("/")
-            ));
-        }
-    }
-    found.extend(graphs.iter().filter_map(|(folder, graph)| {
-        cycle(graph).map(|c| {
-            let folder = if folder.is_empty() {
-                "src".to_owned()
-            } else {
-                format!("src/{}", folder.join("/"))
-            };
-            format!("{krate} {folder}: {}", c.join(" -> "))
+    graphs(modules)
+        .iter()
+        .filter_map(|(folder, graph)| {
+            cycle(graph).map(|c| {
+                let folder = if folder.is_empty() {
+                    "src".to_owned()
+                } else {
+                    format!("src/{}", folder.join("/"))
+                };
+                format!("{krate} {folder}: {}", c.join(" -> "))
+            })
         })
-    }));
-    found
+        .collect()
 }
 
 /// The `.rs` files under `dir`, recursively.

@@ -18,8 +18,7 @@
 
 use std::io::{self, Read, Write};
 
-use super::{Checkpoint, Iterate};
-use crate::solve::hierarchical::Snapshot;
+use super::{Checkpoint, Hierarchy, Iterate};
 use crate::solve::matrix::{Matrix, Near, CHUNK_ROWS};
 use crate::solve::opened_sources::Piece;
 use crate::Rgb;
@@ -93,7 +92,7 @@ impl Checkpoint {
         };
         let hierarchy = match d.u8()? {
             0 => None,
-            1 => Some(Snapshot::decode(&mut d)?),
+            1 => Some(Hierarchy::decode(&mut d)?),
             _ => return Err("damaged checkpoint".to_owned()),
         };
         let mut rest = [0u8; 1];

@@ -35,17 +35,19 @@
 //! triple.
 
 pub mod file;
+mod hierarchy;
 
 use std::fmt;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::hierarchical::Snapshot;
 use super::matrix::Matrix;
 use super::{Method, SolveError};
 use crate::mesh::Mesh;
 use crate::Rgb;
+
+pub(super) use hierarchy::Hierarchy;
 
 /// Receives checkpoints: called from the solving thread.
 pub type SaveCheckpoint = Arc<dyn Fn(&Checkpoint) + Send + Sync>;
@@ -122,7 +124,7 @@ pub(super) struct Iterate {
     /// Unshot radiosity per element (progressive; empty otherwise).
     pub unshot: Vec<Rgb>,
     /// The refined hierarchy (hierarchical solver).
-    pub hierarchy: Option<Snapshot>,
+    pub hierarchy: Option<Hierarchy>,
 }
 
 /// The lengths of an [`Iterate`]'s vectors and whether it holds a hierarchy: what each solver's

@@ -47,14 +47,11 @@ pub mod link;
 pub mod projected;
 pub mod push_pull;
 pub mod refine;
-mod snapshot;
 pub mod source_pieces;
 
 use std::time::Instant;
 
-pub use snapshot::Snapshot;
-
-use super::checkpoint::{Control, Iterate, Problem, Session, Shape};
+use super::checkpoint::{Control, Hierarchy, Iterate, Problem, Session, Shape};
 use super::solver::{Job, Solver};
 use super::{Method, Refined, Sample, Solution, SolveError};
 use crate::accel::Bvh;
@@ -284,8 +281,8 @@ pub fn run(
             .unwrap_or_else(|| unreachable!("checked by Session::new"));
         mesh.refine(&snap.splits);
         state.grow(mesh, bvh);
-        let fits = snap.state.node_b.len() == mesh.nodes.len()
-            && snap.state.cluster_b.len() == clusters.nodes.len();
+        let fits = snap.node_b.len() == mesh.nodes.len()
+            && snap.cluster_b.len() == clusters.nodes.len();
         if !fits {
             return Err(SolveError::CheckpointMismatch(
                 "its refinement does not fit this scene".to_owned(),
@@ -297,9 +294,15 @@ pub fn run(
             node_open: std::mem::take(&mut state.node_open),
             node_shine: std::mem::take(&mut state.node_shine),
             node_gain: std::mem::take(&mut state.node_gain),
-            ..snap.state.clone()
+            node_b: snap.node_b.clone(),
+            node_h: snap.node_h.clone(),
+            cluster_b: snap.cluster_b.clone(),
+            cluster_n: snap.cluster_n.clone(),
+            cluster_h: snap.cluster_h.clone(),
+            cluster_q: snap.cluster_q.clone(),
         };
-        (links, splits, peak) = (snap.links.clone(), snap.splits.clone(), snap.peak);
+        links = snap.links.iter().copied().map(Link::from_bits).collect();
+        (splits, peak) = (snap.splits.clone(), snap.peak);
         state.bury(mesh, &clusters, &links);
         (out.iterations, out.residual) = (it.iterations, it.residual);
         (out.refine_seconds, out.solve_seconds) = snap.seconds;
@@ -406,18 +409,16 @@ pub fn run(
         }
         out.solve_seconds += start.elapsed().as_secs_f64();
         if session.saving() {
-            let snap = Snapshot {
+            let snap = Hierarchy {
                 passes: pass + 1,
                 splits: splits.clone(),
-                links: links.clone(),
-                state: State {
-                    node_area: Vec::new(),
-                    node_probed: Vec::new(),
-                    node_open: Vec::new(),
-                    node_shine: Vec::new(),
-                    node_gain: Vec::new(),
-                    ..state.clone()
-                },
+                links: links.iter().map(Link::to_bits).collect(),
+                node_b: state.node_b.clone(),
+                node_h: state.node_h.clone(),
+                cluster_b: state.cluster_b.clone(),
+                cluster_n: state.cluster_n.clone(),
+                cluster_h: state.cluster_h.clone(),
+                cluster_q: state.cluster_q.clone(),
                 history: out.history.clone(),
                 seconds: (out.refine_seconds, out.solve_seconds),
                 peak,

@@ -3,35 +3,45 @@
 //! A pass refines the links and the quadtrees, then solves; at its end everything the next
 //! pass reads is here: the leaves split so far, in order (replayed on the unrefined mesh, they
 //! give the refined quadtrees with the same node numbers, since [`crate::mesh::Mesh::refine`]
-//! appends children in the order of the splits), the links, and the push-pull state of every
-//! node and cluster. The node areas are left out: they follow from the replayed mesh.
+//! appends children in the order of the splits), the links, and the radiosity and irradiance
+//! of every node and cluster. What follows from the replayed mesh (areas, openness, gains) is
+//! left out. The record is plain data — links as their bits, the push-pull state as its
+//! vectors — so that the checkpoint knows nothing of the solver that fills it.
 
-use super::link::Link;
-use super::push_pull::{Directional, State};
-use crate::solve::checkpoint::file::{allocate, Decoder, Encoder};
+use super::file::{allocate, Decoder, Encoder};
 use crate::solve::Sample;
 use crate::Rgb;
 
 /// See the module documentation.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Snapshot {
+pub(in crate::solve) struct Hierarchy {
     /// Passes done.
-    pub(super) passes: u32,
+    pub passes: u32,
     /// The leaves split so far, in order.
-    pub(super) splits: Vec<u32>,
-    /// The links after the last refinement, sorted by (receiver, source).
-    pub(super) links: Vec<Link>,
-    /// B, irradiance and the clusters' directional sums (node areas empty).
-    pub(super) state: State,
+    pub splits: Vec<u32>,
+    /// The links after the last refinement, sorted by (receiver, source), as their bits.
+    pub links: Vec<[u32; 4]>,
+    /// B of every mesh node.
+    pub node_b: Vec<Rgb>,
+    /// Irradiance gathered by every mesh node.
+    pub node_h: Vec<Rgb>,
+    /// B of every cluster.
+    pub cluster_b: Vec<Rgb>,
+    /// Every cluster's directional sums of its members' normals.
+    pub cluster_n: Vec<[Rgb; 6]>,
+    /// Irradiance gathered by every cluster.
+    pub cluster_h: Vec<Rgb>,
+    /// Every cluster's directional sums of power.
+    pub cluster_q: Vec<[Rgb; 6]>,
     /// The convergence history so far.
-    pub(super) history: Vec<Sample>,
+    pub history: Vec<Sample>,
     /// Seconds spent refining and iterating so far.
-    pub(super) seconds: (f64, f64),
+    pub seconds: (f64, f64),
     /// Peak bytes of the hierarchy so far.
-    pub(super) peak: u64,
+    pub peak: u64,
 }
 
-impl Snapshot {
+impl Hierarchy {
     /// Writes the snapshot in the checkpoint encoding.
     pub(crate) fn encode(&self, e: &mut Encoder) -> std::io::Result<()> {
         e.u32(self.passes)?;
@@ -39,9 +49,9 @@ impl Snapshot {
         self.splits.iter().try_for_each(|&n| e.u32(n))?;
         e.usize(self.links.len())?;
         for link in &self.links {
-            link.to_bits().into_iter().try_for_each(|x| e.u32(x))?;
+            link.iter().try_for_each(|&x| e.u32(x))?;
         }
-        let s = &self.state;
+        let s = self;
         e.rgbs(&s.node_b)?;
         e.rgbs(&s.node_h)?;
         e.rgbs(&s.cluster_b)?;
@@ -59,7 +69,7 @@ impl Snapshot {
         e.u64(self.peak)
     }
 
-    /// Reads what [`Snapshot::encode`] wrote.
+    /// Reads what [`Hierarchy::encode`] wrote.
     pub(crate) fn decode(d: &mut Decoder) -> Result<Self, String> {
         let passes = d.u32()?;
         let n = d.usize()?;
@@ -70,21 +80,14 @@ impl Snapshot {
         let n = d.usize()?;
         let mut links = allocate(n)?;
         for _ in 0..n {
-            links.push(Link::from_bits([d.u32()?, d.u32()?, d.u32()?, d.u32()?]));
+            links.push([d.u32()?, d.u32()?, d.u32()?, d.u32()?]);
         }
-        let state = State {
-            node_b: d.rgbs()?,
-            node_h: d.rgbs()?,
-            node_area: Vec::new(),
-            node_probed: Vec::new(),
-            node_open: Vec::new(),
-            node_shine: Vec::new(),
-            node_gain: Vec::new(),
-            cluster_b: d.rgbs()?,
-            cluster_n: read_directional(d)?,
-            cluster_h: d.rgbs()?,
-            cluster_q: read_directional(d)?,
-        };
+        let node_b = d.rgbs()?;
+        let node_h = d.rgbs()?;
+        let cluster_b = d.rgbs()?;
+        let cluster_n = read_directional(d)?;
+        let cluster_h = d.rgbs()?;
+        let cluster_q = read_directional(d)?;
         let n = d.usize()?;
         let mut history = allocate(n)?;
         for _ in 0..n {
@@ -98,7 +101,12 @@ impl Snapshot {
             passes,
             splits,
             links,
-            state,
+            node_b,
+            node_h,
+            cluster_b,
+            cluster_n,
+            cluster_h,
+            cluster_q,
             history,
             seconds: (d.f64()?, d.f64()?),
             peak: d.u64()?,
@@ -106,12 +114,12 @@ impl Snapshot {
     }
 }
 
-fn directional(e: &mut Encoder, v: &[Directional]) -> std::io::Result<()> {
+fn directional(e: &mut Encoder, v: &[[Rgb; 6]]) -> std::io::Result<()> {
     e.usize(v.len())?;
     v.iter().flatten().try_for_each(|&c| e.rgb(c))
 }
 
-fn read_directional(d: &mut Decoder) -> Result<Vec<Directional>, String> {
+fn read_directional(d: &mut Decoder) -> Result<Vec<[Rgb; 6]>, String> {
     let n = d.usize()?;
     let mut v = allocate(n)?;
     for _ in 0..n {
