@@ -281,8 +281,8 @@ pub fn run(
             .unwrap_or_else(|| unreachable!("checked by Session::new"));
         mesh.refine(&snap.splits);
         state.grow(mesh, bvh);
-        let fits = snap.node_b.len() == mesh.nodes.len()
-            && snap.cluster_b.len() == clusters.nodes.len();
+        let fits =
+            snap.node_b.len() == mesh.nodes.len() && snap.cluster_b.len() == clusters.nodes.len();
         if !fits {
             return Err(SolveError::CheckpointMismatch(
                 "its refinement does not fit this scene".to_owned(),
