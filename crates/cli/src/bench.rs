@@ -16,7 +16,7 @@ use radiosity::scene::builtin;
 use radiosity::progress::{Progress, Work};
 
 use crate::args::{BenchArgs, BenchIsa};
-use crate::progress::Bars;
+use report::Bars;
 
 /// The built-in Cornell box's polygons as triangles, with the camera of its scene file
 /// (`scenes/cornell/scene.toml`, millimetres) and a light just under its ceiling light.

@@ -26,7 +26,7 @@ use radiosity::{solve, Scene};
 use serde::{Deserialize, Serialize};
 
 use crate::args::BenchArgs;
-use crate::progress::Bars;
+use report::Bars;
 
 /// The Cornell box's ε, coarse to fine.
 const EPSILONS: [f64; 4] = [1e-3, 1e-4, 3e-5, 1e-5];

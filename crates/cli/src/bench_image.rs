@@ -21,7 +21,7 @@ use radiosity::render::block_error::block_error;
 use serde::Serialize;
 
 use crate::args::BenchArgs;
-use crate::progress::Bars;
+use report::Bars;
 
 /// The configurations measured: a name and the `render` flags that make it.
 const CONFIGURATIONS: [(&str, &[&str]); 10] = [

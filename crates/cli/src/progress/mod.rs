@@ -1,15 +1,15 @@
-//! Progress of `render`, `solve` and `compare` on stderr: bars on a terminal ([`Bars`]), lines
-//! of text anywhere else ([`Lines`]: a log file, CI, a batch farm), nothing with `--quiet`.
+//! Progress of `render`, `solve` and `compare` on stderr: bars on a terminal ([`Bars`], from the
+//! `report` crate that the developer tools share), lines of text anywhere else ([`Lines`]: a
+//! log file, CI, a batch farm), nothing with `--quiet`.
 
-mod bars;
 mod lines;
 
 use std::io::IsTerminal;
 use std::time::Duration;
 
-pub use bars::Bars;
 pub use lines::Lines;
 use radiosity::progress::{Progress, Work};
+use report::Bars;
 
 /// How a run reports its stages: `--quiet` and `--progress-every`.
 #[derive(Clone, Copy, Debug)]

@@ -39,7 +39,7 @@ mod reference_suite;
 
 use std::io::{IsTerminal, Write};
 
-use clap::{Args, ValueEnum};
+use clap::Args;
 use glam::Vec3;
 use radiosity::formfactor::{self, analytic};
 use radiosity::mesh::Subdivision;
@@ -48,6 +48,8 @@ use radiosity::progress::Silent;
 use radiosity::scene::{Material, Object, Polygon};
 use radiosity::stats::{Stats, Timings};
 use radiosity::{solve, testing, Rgb, Scene};
+
+use report::check::{self, Check, Format};
 
 use crate::solver::Solver;
 
@@ -88,35 +90,6 @@ pub struct ValidateArgs {
     pub corpus_scenes: Vec<String>,
 }
 
-/// `--format` of `validate`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Format {
-    /// A Markdown table.
-    Markdown,
-    /// A JSON array of rows.
-    Json,
-}
-
-/// One checked quantity.
-pub(crate) struct Row {
-    pub case: String,
-    pub quantity: &'static str,
-    pub reference: f64,
-    pub ours: f64,
-    /// Largest accepted relative error.
-    pub tolerance: f64,
-}
-
-impl Row {
-    fn error(&self) -> f64 {
-        (self.ours - self.reference).abs() / self.reference.abs()
-    }
-
-    fn pass(&self) -> bool {
-        self.error() <= self.tolerance
-    }
-}
-
 /// Runs the suite and prints the table; fails when a case is out of tolerance.
 pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
     let mut rows = suite()?;
@@ -139,7 +112,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
                 .map(|s| s.parse::<formfactor::Method>().map_err(anyhow::Error::from))
                 .collect::<anyhow::Result<_>>()?
         };
-        let bars = crate::progress::Bars::new(std::io::stderr().is_terminal());
+        let bars = report::Bars::new(std::io::stderr().is_terminal());
         rows.extend(reference_suite::rows(
             &args.suite_dir,
             &args.suite_scenes,
@@ -155,20 +128,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
     let mut out = std::io::stdout().lock();
     match args.format {
         Format::Json => {
-            let mut json: Vec<_> = rows
-                .iter()
-                .map(|r| {
-                    serde_json::json!({
-                        "case": r.case,
-                        "quantity": r.quantity,
-                        "reference": r.reference,
-                        "ours": r.ours,
-                        "error": r.error(),
-                        "tolerance": r.tolerance,
-                        "pass": r.pass(),
-                    })
-                })
-                .collect();
+            let mut json: Vec<_> = rows.iter().map(Check::json).collect();
             for c in &corpus {
                 let mut v = serde_json::to_value(c)?;
                 v["case"] = format!("corpus: {}", c.scene).into();
@@ -179,21 +139,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
             writeln!(out, "{}", serde_json::to_string_pretty(&json)?)?;
         }
         Format::Markdown => {
-            writeln!(out, "| case | quantity | reference | ours | error | pass |")?;
-            writeln!(out, "|---|---|---:|---:|---:|---|")?;
-            for r in &rows {
-                writeln!(
-                    out,
-                    "| {} | {} | {:.6} | {:.6} | {:.3} % | {} (≤ {:e}) |",
-                    r.case,
-                    r.quantity,
-                    r.reference,
-                    r.ours,
-                    100.0 * r.error(),
-                    if r.pass() { "yes" } else { "NO" },
-                    r.tolerance
-                )?;
-            }
+            writeln!(out, "{}", check::markdown(&rows))?;
             if !corpus.is_empty() {
                 writeln!(out, "\n{}", crate::corpus::table(&corpus))?;
             }
@@ -206,7 +152,7 @@ pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
 }
 
 /// Every case of the suite.
-fn suite() -> anyhow::Result<Vec<Row>> {
+fn suite() -> anyhow::Result<Vec<Check>> {
     let mut rows = Vec::new();
     let parallel = analytic::parallel_rectangles(1.0, 1.0, 1.0);
     for (case, scene, reference) in [
@@ -226,7 +172,7 @@ fn suite() -> anyhow::Result<Vec<Row>> {
             0.5 * parallel,
         ),
     ] {
-        rows.push(Row {
+        rows.push(Check {
             case: case.into(),
             quantity: "view factor F",
             reference,
@@ -235,7 +181,7 @@ fn suite() -> anyhow::Result<Vec<Row>> {
         });
     }
     let (point, normal, square) = testing::point_to_square();
-    rows.push(Row {
+    rows.push(Check {
         case: "point to parallel square (Howell B-3)".into(),
         quantity: "view factor F",
         reference: 4.0 * analytic::point_to_parallel_rectangle_corner(0.5, 0.5, 1.0),
@@ -251,7 +197,7 @@ fn suite() -> anyhow::Result<Vec<Row>> {
         600,
         formfactor::Method::Analytic,
     )?;
-    rows.push(Row {
+    rows.push(Check {
         case: "closed unit cube, ρ = 0.5, one face emitting".into(),
         quantity: "absorbed / emitted power",
         reference: 1.0,
@@ -273,7 +219,7 @@ const CORNELL_TOLERANCE: f64 = 0.015;
 
 /// One row per object of the built-in Cornell box: our mean radiosity (mean of R, G, B) at
 /// [`CORNELL_ELEMENTS`] elements against the committed path-traced reference.
-fn cornell() -> anyhow::Result<Vec<Row>> {
+fn cornell() -> anyhow::Result<Vec<Check>> {
     let reference: serde_json::Value = serde_json::from_str(CORNELL_REFERENCE)?;
     let renderer = reference["renderer"].as_str().unwrap_or("path tracer");
     let objects = reference["objects"]
@@ -305,7 +251,7 @@ fn cornell() -> anyhow::Result<Vec<Row>> {
         let theirs = objects
             .get(&name)
             .and_then(|o| o["radiosity"].as_array())
-            .and_then(|b| rgb(b))
+            .and_then(|b| check::rgb(b))
             .ok_or_else(|| anyhow::anyhow!("no radiosity of `{name}` in the Cornell reference"))?;
         let ours = stats
             .objects
@@ -314,7 +260,7 @@ fn cornell() -> anyhow::Result<Vec<Row>> {
             .map(|o| Rgb::from(o.radiosity))
             .ok_or_else(|| anyhow::anyhow!("no object `{name}` in the statistics"))?;
         let emitting = e != Rgb::ZERO;
-        rows.push(Row {
+        rows.push(Check {
             case: format!("Cornell box vs {renderer} path tracer: {name}"),
             quantity: if emitting {
                 "reflected radiosity B − πL_e, mean of R, G, B (W/m²)"
@@ -327,14 +273,6 @@ fn cornell() -> anyhow::Result<Vec<Row>> {
         });
     }
     Ok(rows)
-}
-
-/// An RGB triple from a JSON array of three numbers.
-pub(crate) fn rgb(values: &[serde_json::Value]) -> Option<Rgb> {
-    match values {
-        [r, g, b] => Some(Rgb::new(r.as_f64()?, g.as_f64()?, b.as_f64()?)),
-        _ => None,
-    }
 }
 
 /// Solves `scene` with about `elements` elements, Gauss-Seidel to 10⁻⁹.
@@ -405,7 +343,7 @@ fn quad(corner: Vec3, u: Vec3, v: Vec3) -> Vec<Vec3> {
 }
 
 /// CIE 171:2006 TC 5.8: the 4 m cube room, uniform ρ, the centre ninth of the ceiling emitting.
-fn integrating_sphere(rho: f64) -> anyhow::Result<Row> {
+fn integrating_sphere(rho: f64) -> anyhow::Result<Check> {
     const SIDE: f32 = 4.0;
     let mut scene = Scene {
         name: "integrating sphere".into(),
@@ -445,7 +383,7 @@ fn integrating_sphere(rho: f64) -> anyhow::Result<Row> {
     } else {
         stats.energy.absorbed[0] / total_area
     };
-    Ok(Row {
+    Ok(Check {
         case: format!("integrating sphere, CIE 171 TC 5.8, ρ = {rho}"),
         quantity: "mean irradiance (W/m²)",
         reference: power / (total_area * (1.0 - rho)),
@@ -456,7 +394,7 @@ fn integrating_sphere(rho: f64) -> anyhow::Result<Row> {
 
 /// A 0.1 m square lamp (radiance 100, not reflecting) 2 m up, facing down; a 0.02 m receiver
 /// square on the floor 1 m to the side, facing up, ρ = 0.5.
-fn direct_irradiance() -> anyhow::Result<Row> {
+fn direct_irradiance() -> anyhow::Result<Check> {
     let (radiance, side, height, offset, rho) = (100.0, 0.1_f32, 2.0_f32, 1.0_f32, 0.5);
     let mut scene = Scene {
         name: "direct irradiance".into(),
@@ -484,7 +422,7 @@ fn direct_irradiance() -> anyhow::Result<Row> {
     let r2 = h * h + d * d;
     let cos = h / r2.sqrt();
     let area = f64::from(side * side);
-    Ok(Row {
+    Ok(Check {
         case: format!("0.1 m square lamp, floor point {offset} m aside, {height} m below"),
         quantity: "direct irradiance (W/m²)",
         reference: radiance * area * cos * cos / r2,

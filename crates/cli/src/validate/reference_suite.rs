@@ -22,7 +22,8 @@ use radiosity::progress::{Progress, Silent, Work};
 use radiosity::stats::Timings;
 use radiosity::{formfactor, solve, Scene};
 
-use super::Row;
+use report::check::{self, Check};
+
 use crate::solver::Solver;
 
 /// Largest accepted relative error of any object's radiosity in any channel.
@@ -57,7 +58,7 @@ pub fn rows(
     solvers: &[Solver],
     form_factors: &[formfactor::Method],
     progress: &dyn Progress,
-) -> anyhow::Result<Vec<Row>> {
+) -> anyhow::Result<Vec<Check>> {
     let folder = root.join("benches").join("suite").join("reference");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&folder)
         .map_err(|e| {
@@ -116,7 +117,7 @@ fn read_reference(file: &Path) -> anyhow::Result<ReferenceFile> {
                 .ok_or_else(|| bad("an object without `name`"))?;
             let rgb = o["radiosity"]
                 .as_array()
-                .and_then(|v| super::rgb(v))
+                .and_then(|v| check::rgb(v))
                 .ok_or_else(|| bad(&format!("`{name}` has no radiosity [r, g, b]")))?;
             Ok(Reference {
                 name: name.to_owned(),
@@ -139,7 +140,7 @@ fn scene_rows(
     solver: Solver,
     ff: formfactor::Method,
     reference: &ReferenceFile,
-) -> anyhow::Result<Vec<Row>> {
+) -> anyhow::Result<Vec<Check>> {
     let references = &reference.objects;
     let settings = Settings {
         subdivision: Subdivision::default(),
@@ -184,7 +185,7 @@ fn scene_rows(
         solver.name(),
         ff.name()
     );
-    let mut rows = vec![Row {
+    let mut rows = vec![Check {
         case: format!("{run}: {} ({})", worst.name, ["r", "g", "b"][channel]),
         quantity: "radiosity B of the worst object and channel (W/m²)",
         reference: worst.radiosity[channel],
@@ -200,7 +201,7 @@ fn scene_rows(
                     .total_cmp(&(balance(b) - 1.0).abs())
             })
             .unwrap_or(0);
-        rows.push(Row {
+        rows.push(Check {
             case: format!("{run}: closed, power balance ({})", ["r", "g", "b"][c]),
             quantity: "absorbed / emitted power, worst channel",
             reference: 1.0,

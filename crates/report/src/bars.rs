@@ -1,4 +1,5 @@
-//! Progress bars on a terminal for the engine's long stages (meshing, form factors, solving):
+//! Progress bars on a terminal for the engine's long stages (meshing, form factors, solving)
+//! and the developer tools' runs (benchmark cases, suite scenes):
 //! one bar per stage, redrawn in place, and a line `STAGE done in S s` when it ends.
 
 use std::io::Write;
