@@ -6,7 +6,6 @@
 //! radiosity render SCENE --mode local|radiosity|raytrace [--gather N]
 //! radiosity compare SCENE -o compare.png
 //! radiosity scenes
-//! radiosity bench [--suite rays|hierarchical]
 //! radiosity hemicube SCENE --element ID -o hemicube.png [--resolution N] [--heatmap]
 //! radiosity info SCENE
 //! radiosity solve SCENE --export scene.html --plot convergence.svg
@@ -25,9 +24,6 @@
 #![forbid(unsafe_code)]
 
 mod args;
-mod bench;
-mod bench_hierarchical;
-mod bench_image;
 mod compare;
 mod corpus;
 mod curve;
@@ -71,11 +67,6 @@ fn main() -> ExitCode {
         Command::Compare(args) => compare::run(&args),
         Command::Scenes => list_scenes(),
         Command::Info(args) => info::run(&args),
-        Command::Bench(args) => match args.suite {
-            args::Suite::Rays => bench::run(&args),
-            args::Suite::Hierarchical => bench_hierarchical::run(&args),
-            args::Suite::Image => bench_image::run(&args),
-        },
         Command::Hemicube(args) => hemicube::run(&args),
         Command::Curve(args) => curve::run(&args),
         Command::Validate(args) => validate::run(&args),

@@ -33,23 +33,6 @@ const AUTO_HELP: &str = "Hierarchical radiosity, unless `--elements`, `--max-ele
     Gauss-Seidel while the matrix fits the memory budget (hierarchical or progressive beyond \
     it; many small faces go hierarchical)";
 
-impl Solver {
-    /// Every choice: the automatic one, then each solver.
-    pub fn all() -> Vec<Solver> {
-        std::iter::once(Solver::Auto)
-            .chain(solve::Method::ALL.map(Solver::Method))
-            .collect()
-    }
-
-    /// Its name on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Solver::Method(m) => m.name(),
-            Solver::Auto => "auto",
-        }
-    }
-}
-
 impl ValueEnum for Solver {
     fn value_variants<'a>() -> &'a [Self] {
         &SOLVERS

@@ -72,6 +72,9 @@ pub mod sampling;
 pub mod scene;
 pub mod solve;
 pub mod stats;
+// Scenes built in code for tests, benchmarks and `radiosity validate`'s closed-form cases: used
+// across the workspace, but not part of the engine's documented interface.
+#[doc(hidden)]
 pub mod testing;
 
 pub use color::Rgb;

@@ -21,13 +21,10 @@
 //! - [`BoxTree`] (`box_tree`): a binary hierarchy over boxes of the caller's choosing, for
 //!   overlap queries whose reach differs from item to item (the contact test of
 //!   [`crate::mesh`]).
-//! - [`bench`]: the ray-throughput benchmark measured against Intel Embree
-//!   (`benches/README.md`).
 //!
 //! Measured choice of node: 8 children with their boxes in structure-of-arrays form, faster
 //! here than binary (Aila & Laine 2009) and 4-wide nodes; see `benches/README.md`.
 
-pub mod bench;
 pub mod box_tree;
 mod build;
 pub mod bvh;
@@ -45,7 +42,8 @@ pub use bvh::Bvh;
 pub use node::{largest_axis, Aabb};
 pub use ray::{Hit, Ray};
 
-/// With the `count` feature: nodes and leaves visited by all ray queries so far.
+/// With the `count` feature: nodes and leaves visited by all ray queries so far (`cargo xtask`'s
+/// `traversal-counts`).
 #[cfg(feature = "count")]
 pub static COUNT_STEPS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 /// With the `count` feature: triangle packets tested by all ray queries so far.

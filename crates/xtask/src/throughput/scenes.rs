@@ -57,7 +57,7 @@ pub fn sphere_field_triangles(target: usize, closed: bool) -> Vec<[Vec3; 3]> {
     let mut tris = Vec::with_capacity(target + 5120);
     fan(&model::primitives::cuboid(lo, hi), true, &mut tris);
     let room = tris.len();
-    let mut rng = crate::hash::SplitMix(0x5EED);
+    let mut rng = radiosity::hash::SplitMix(0x5EED);
     while tris.len() + 160 < target {
         let s = rng.next_f32();
         let radius = 0.15 + 1.05 * s * s;

@@ -1,4 +1,4 @@
-//! `radiosity bench --suite hierarchical`: how the hierarchical solver's time, links and memory
+//! `cargo xtask bench --suite hierarchical`: how the hierarchical solver's time, links and memory
 //! grow with the number of elements, from about 10⁴ to 10⁶.
 //!
 //! Two series:
@@ -23,10 +23,10 @@ use radiosity::pipeline::{self, Settings};
 use radiosity::progress::{Progress, Silent, Work};
 use radiosity::scene::builtin;
 use radiosity::{solve, Scene};
+use report::Bars;
 use serde::{Deserialize, Serialize};
 
-use crate::args::BenchArgs;
-use report::Bars;
+use super::BenchArgs;
 
 /// The Cornell box's ε, coarse to fine.
 const EPSILONS: [f64; 4] = [1e-3, 1e-4, 3e-5, 1e-5];

@@ -24,7 +24,8 @@ use serde::Serialize;
 pub use rays::{AreaLight, Camera, RaySet};
 pub use scenes::BenchScene;
 
-use super::Bvh;
+use radiosity::accel::isa::{self, Isa};
+use radiosity::accel::{Bvh, Hit, Ray};
 
 /// Far end of the rays that run to infinity (Embree's wrapper is given the same).
 pub const T_MAX: f32 = 1e30;
@@ -83,8 +84,8 @@ pub struct SceneReport {
     pub scene: &'static str,
     /// Triangles in the scene.
     pub triangles: usize,
-    /// Instruction set the queries ran on ([`super::isa::current`]).
-    pub isa: super::isa::Isa,
+    /// Instruction set the queries ran on ([`isa::current`]).
+    pub isa: Isa,
     /// Bytes the hierarchy holds (nodes, triangles, indices) per input triangle.
     pub bytes_per_triangle: f64,
     /// One entry per pool size.
@@ -118,7 +119,7 @@ fn count(set: &RaySet, hit: impl Fn(usize) -> bool + Sync) -> usize {
 /// call, over the current rayon pool.
 fn count_batched<T: Default + Clone + IsSome + Send>(
     set: &RaySet,
-    query: impl Fn(&[super::Ray], &[f32], &mut [T]) + Sync,
+    query: impl Fn(&[Ray], &[f32], &mut [T]) + Sync,
 ) -> usize {
     set.rays
         .par_chunks(CHUNK)
@@ -142,7 +143,7 @@ impl IsSome for bool {
     }
 }
 
-impl IsSome for Option<super::Hit> {
+impl IsSome for Option<Hit> {
     fn is_some(&self) -> bool {
         Option::is_some(self)
     }
@@ -191,7 +192,7 @@ pub fn run(
                     count_batched(set, |rays, t_max, out| bvh.occluded_many(rays, t_max, out))
                 });
                 let (closest_batched, hits_batched) = best_of(|| {
-                    count_batched(set, |rays, t_max, out: &mut [Option<super::Hit>]| {
+                    count_batched(set, |rays, t_max, out: &mut [Option<Hit>]| {
                         bvh.closest_hits(rays, t_max, out);
                     })
                 });
@@ -201,7 +202,7 @@ pub fn run(
                     })
                 });
                 let (closest_packet, hits_packet) = best_of(|| {
-                    count_batched(set, |rays, t_max, out: &mut [Option<super::Hit>]| {
+                    count_batched(set, |rays, t_max, out: &mut [Option<Hit>]| {
                         bvh.closest_hits_coherent(rays, t_max, out);
                     })
                 });
@@ -224,7 +225,7 @@ pub fn run(
     Ok(SceneReport {
         scene,
         triangles: triangles.len(),
-        isa: super::isa::current(),
+        isa: isa::current(),
         bytes_per_triangle,
         builds,
         sets: reports,
@@ -275,7 +276,6 @@ pub fn write_workload(
 
 #[cfg(test)]
 mod tests {
-    use super::super::Ray;
     use super::*;
 
     #[test]

@@ -1,10 +1,11 @@
-//! `radiosity bench --suite image`: our pictures against a path tracer's converged picture.
+//! `cargo xtask bench --suite image`: our pictures against a path tracer's converged picture.
 //!
 //! The reference is a linear-radiance PFM that Mitsuba 3 rendered from the scene's own camera
 //! (`benches/image/reference.py`; the committed one is the Cornell box at 256², see
-//! `benches/image/reference/README.md`). Each configuration below is this program's own
-//! `render` command, run in a process of its own at the reference's size and timed whole
-//! (parse, mesh, solve, render, write), and its picture compared with the reference by
+//! `benches/image/reference/README.md`). Each configuration below is the `radiosity` program's
+//! `render` command (cargo builds the program first, beside this one), run in a process of its
+//! own at the reference's size and timed whole (parse, mesh, solve, render, write), and its
+//! picture compared with the reference by
 //! [`radiosity::render::block_error::block_error`]: the RMS of the relative luminance error
 //! over 4 × 4-pixel blocks, the measure the image issue states its goals in.
 
@@ -13,15 +14,15 @@ use std::path::PathBuf;
 use std::process::Command;
 use std::time::Instant;
 
-use anyhow::{bail, Context};
+use anyhow::{bail, ensure, Context};
 use radiosity::io::atomic::write_atomic;
 use radiosity::io::image_file::read_pfm;
 use radiosity::progress::{Progress, Work};
 use radiosity::render::block_error::block_error;
+use report::Bars;
 use serde::Serialize;
 
-use crate::args::BenchArgs;
-use report::Bars;
+use super::BenchArgs;
 
 /// The configurations measured: a name and the `render` flags that make it.
 const CONFIGURATIONS: [(&str, &[&str]); 10] = [
@@ -87,7 +88,7 @@ struct Figures {
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let reference_path = args.reference.clone().unwrap_or_else(default_reference);
     let reference = read_pfm(&reference_path)?;
-    let exe = std::env::current_exe().context("cannot find this program")?;
+    let exe = radiosity_program()?;
     let dir = Scratch::new()?;
     let mut out = std::io::stdout().lock();
     writeln!(
@@ -163,9 +164,29 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
 /// Block size of the error measure, pixels.
 const BLOCK: u32 = 4;
 
-/// The committed reference, relative to the working directory (the repository's root).
+/// The committed reference, in the repository.
 fn default_reference() -> PathBuf {
-    PathBuf::from("benches/image/reference/cornell_256.pfm")
+    crate::repository().join("benches/image/reference/cornell_256.pfm")
+}
+
+/// The `radiosity` program of this workspace, built by cargo beside this program (the same
+/// target folder and profile) so that the pictures are those of the code as it is.
+fn radiosity_program() -> anyhow::Result<PathBuf> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let mut build = Command::new(cargo);
+    build
+        .args(["build", "--quiet", "-p", "cli", "--bin", "radiosity"])
+        .current_dir(crate::repository());
+    if !cfg!(debug_assertions) {
+        build.arg("--release");
+    }
+    let status = build.status().context("cannot run cargo")?;
+    ensure!(
+        status.success(),
+        "cargo could not build the radiosity program"
+    );
+    let this = std::env::current_exe().context("cannot find this program")?;
+    Ok(this.with_file_name(format!("radiosity{}", std::env::consts::EXE_SUFFIX)))
 }
 
 /// A fresh directory for the renders, removed when dropped (also when a render fails).

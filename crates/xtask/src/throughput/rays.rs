@@ -20,10 +20,11 @@
 
 use glam::Vec3;
 
-use super::super::{Bvh, Ray};
+use radiosity::accel::{Bvh, Ray};
+use radiosity::hash::SplitMix;
+use radiosity::sampling::cosine_direction;
+
 use super::T_MAX;
-use crate::hash::SplitMix;
-use crate::sampling::cosine_direction;
 
 /// Side of the square image the primary rays are cast through.
 pub const PRIMARY_SIDE: usize = 512;

@@ -4,7 +4,7 @@
 //! compiled for SSE2 and for AVX2 (`accel::isa`), interleaved, best of two.
 //!
 //! ```sh
-//! cargo run --release --example traversal_counts --features count -- [SCENE] [RAYS]
+//! cargo run --release -p xtask --features count -- traversal-counts [SCENE] [RAYS]
 //! ```
 //!
 //! SCENE is `spheres`, `spheres-open` or `teapot` (default: all); RAYS restricts to the ray
@@ -14,9 +14,20 @@
 use std::sync::atomic::Ordering::Relaxed;
 use std::time::Instant;
 
-use radiosity::accel::bench::{self, rays, BenchScene};
+use clap::Args;
 use radiosity::accel::isa::{self, Isa};
 use radiosity::accel::Bvh;
+
+use crate::throughput::{rays, scenes, BenchScene};
+
+/// `cargo xtask traversal-counts`.
+#[derive(Debug, Args)]
+pub struct TraversalArgs {
+    /// Only this scene: `spheres`, `spheres-open` or `teapot` (default: all).
+    pub scene: Option<String>,
+    /// Only the ray sets whose name starts with this: `inc`, `pri` or `sha` (default: all).
+    pub rays: Option<String>,
+}
 
 /// Steps and packets counted since the last reset (zero without the `count` feature).
 fn counts(reset: bool) -> (u64, u64) {
@@ -39,17 +50,15 @@ fn counts(reset: bool) -> (u64, u64) {
 /// Makes one benchmark scene.
 type Maker = fn() -> BenchScene;
 
-fn main() {
+/// Measures every asked scene and ray set and prints a line per query.
+pub fn run(args: &TraversalArgs) {
     const TRIANGLES: usize = 1_000_000;
-    let args: Vec<String> = std::env::args().collect();
-    let only_scene = args.get(1).cloned().unwrap_or_default();
-    let only_set = args.get(2).cloned().unwrap_or_default();
+    let only_scene = args.scene.clone().unwrap_or_default();
+    let only_set = args.rays.clone().unwrap_or_default();
     let makers: [(&str, Maker); 3] = [
-        ("spheres", || bench::scenes::sphere_field(TRIANGLES, true)),
-        ("spheres-open", || {
-            bench::scenes::sphere_field(TRIANGLES, false)
-        }),
-        ("teapot", || bench::scenes::teapot(TRIANGLES)),
+        ("spheres", || scenes::sphere_field(TRIANGLES, true)),
+        ("spheres-open", || scenes::sphere_field(TRIANGLES, false)),
+        ("teapot", || scenes::teapot(TRIANGLES)),
     ];
     for (name, make) in makers {
         if !only_scene.is_empty() && name != only_scene {

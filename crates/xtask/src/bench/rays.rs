@@ -1,4 +1,4 @@
-//! `radiosity bench`: ray throughput of the BVH (see [`radiosity::accel::bench`]) on the
+//! `cargo xtask bench`: ray throughput of the BVH (see [`crate::throughput`]) on the
 //! built-in Cornell box, the sphere field closed and open, and the teapot, each with
 //! incoherent, primary and shadow rays.
 
@@ -6,17 +6,16 @@ use std::io::{IsTerminal, Write};
 
 use anyhow::Context;
 use glam::Vec3;
-use radiosity::accel::bench::{self, AreaLight, BenchScene, Camera, RaySet};
 use radiosity::accel::isa::{self, Isa};
 use radiosity::accel::Bvh;
 use radiosity::io::atomic::write_atomic;
 use radiosity::mesh::{Mesh, Subdivision};
-use radiosity::scene::builtin;
-
 use radiosity::progress::{Progress, Work};
-
-use crate::args::{BenchArgs, BenchIsa};
+use radiosity::scene::builtin;
 use report::Bars;
+
+use super::{BenchArgs, BenchIsa};
+use crate::throughput::{self, AreaLight, BenchScene, Camera, RaySet};
 
 /// The built-in Cornell box's polygons as triangles, with the camera of its scene file
 /// (`scenes/cornell/scene.toml`, millimetres) and a light just under its ceiling light.
@@ -44,11 +43,11 @@ type Maker = fn(usize) -> anyhow::Result<BenchScene>;
 /// The scenes by name, in the order they are measured.
 const SCENES: [(&str, Maker); 4] = [
     ("cornell", |_| cornell()),
-    ("spheres", |n| Ok(bench::scenes::sphere_field(n, true))),
+    ("spheres", |n| Ok(throughput::scenes::sphere_field(n, true))),
     ("spheres-open", |n| {
-        Ok(bench::scenes::sphere_field(n, false))
+        Ok(throughput::scenes::sphere_field(n, false))
     }),
-    ("teapot", |n| Ok(bench::scenes::teapot(n))),
+    ("teapot", |n| Ok(throughput::scenes::teapot(n))),
 ];
 
 /// Measures every scene for each thread count, prints one line per measurement, and writes the
@@ -83,10 +82,12 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         let sets = ray_sets(&scene, args);
         if let Some(dir) = &args.workload {
             let path = dir.join(format!("{}.bin", scene.name));
-            write_atomic(&path, |w| bench::write_workload(w, &scene.triangles, &sets))
-                .with_context(|| format!("{}: cannot write", path.display()))?;
+            write_atomic(&path, |w| {
+                throughput::write_workload(w, &scene.triangles, &sets)
+            })
+            .with_context(|| format!("{}: cannot write", path.display()))?;
         }
-        let report = bench::run(scene.name, &scene.triangles, &sets, &threads)
+        let report = throughput::run(scene.name, &scene.triangles, &sets, &threads)
             .context("cannot start threads")?;
         bars.finish();
         for b in &report.builds {
@@ -131,8 +132,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
 /// The incoherent, primary and shadow rays of `scene`.
 fn ray_sets(scene: &BenchScene, args: &BenchArgs) -> [RaySet; 3] {
     let bvh = Bvh::build(&scene.triangles);
-    let incoherent = bench::rays::incoherent(&scene.triangles, &bvh, args.rays as usize, args.seed);
-    let primary = bench::rays::primary(&scene.camera);
-    let shadow = bench::rays::shadow(&scene.triangles, &bvh, &primary, &scene.light, args.seed);
+    let incoherent =
+        throughput::rays::incoherent(&scene.triangles, &bvh, args.rays as usize, args.seed);
+    let primary = throughput::rays::primary(&scene.camera);
+    let shadow =
+        throughput::rays::shadow(&scene.triangles, &bvh, &primary, &scene.light, args.seed);
     [incoherent, primary, shadow]
 }

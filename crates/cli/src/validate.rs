@@ -34,10 +34,10 @@
 //!   the 2 × 2 quadrature of the form factors); the reference's standard error is at most 0.2 %
 //!   (floor) and 0.12 % elsewhere. Hence the tolerance 1.5 % ≥ 0.7 % + 3 × 0.2 %.
 //!
+//! The reference suite (scenes made elsewhere against Mitsuba 3) is a developer tool with the
+//! same rows: `cargo xtask suite`.
 
-mod reference_suite;
-
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 
 use clap::Args;
 use glam::Vec3;
@@ -48,10 +48,7 @@ use radiosity::progress::Silent;
 use radiosity::scene::{Material, Object, Polygon};
 use radiosity::stats::{Stats, Timings};
 use radiosity::{solve, testing, Rgb, Scene};
-
 use report::check::{self, Check, Format};
-
-use crate::solver::Solver;
 
 /// `radiosity validate`.
 #[derive(Debug, Args)]
@@ -59,24 +56,6 @@ pub struct ValidateArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Markdown)]
     pub format: Format,
-    /// Also run the reference suite of `benches/suite` (scenes made elsewhere against Mitsuba 3;
-    /// every object within 1 %).
-    #[arg(long)]
-    pub suite: bool,
-    /// The repository that holds `benches/suite` and `scenes/suite`.
-    #[arg(long, value_name = "DIR", default_value = ".")]
-    pub suite_dir: std::path::PathBuf,
-    /// Suite scenes to run (repeatable; default: all).
-    #[arg(long = "suite-scene", value_name = "NAME")]
-    pub suite_scenes: Vec<String>,
-    /// Solvers for the suite (repeatable): auto, jacobi, gauss-seidel, progressive,
-    /// hierarchical, or all [default: auto].
-    #[arg(long = "suite-solver", value_name = "NAME")]
-    pub suite_solvers: Vec<String>,
-    /// Form-factor methods for the suite (repeatable): raycast, hemicube [default: raycast].
-    /// (Analytic form factors ignore visibility; every suite scene has shadows.)
-    #[arg(long = "suite-form-factors", value_name = "NAME")]
-    pub suite_form_factors: Vec<String>,
     /// Also compare the published scenes in DIR (one folder per scene, Mitsuba XML) with
     /// Mitsuba 3's references: block error, 99th percentile, mean radiance ratio, power, time.
     #[arg(long, value_name = "DIR")]
@@ -92,35 +71,7 @@ pub struct ValidateArgs {
 
 /// Runs the suite and prints the table; fails when a case is out of tolerance.
 pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
-    let mut rows = suite()?;
-    if args.suite {
-        let solvers = if args.suite_solvers.iter().any(|s| s == "all") {
-            Solver::all()
-        } else if args.suite_solvers.is_empty() {
-            vec![Solver::Auto]
-        } else {
-            args.suite_solvers
-                .iter()
-                .map(|s| s.parse().map_err(|e: String| anyhow::anyhow!(e)))
-                .collect::<anyhow::Result<_>>()?
-        };
-        let form_factors = if args.suite_form_factors.is_empty() {
-            vec![formfactor::Method::RayCast]
-        } else {
-            args.suite_form_factors
-                .iter()
-                .map(|s| s.parse::<formfactor::Method>().map_err(anyhow::Error::from))
-                .collect::<anyhow::Result<_>>()?
-        };
-        let bars = report::Bars::new(std::io::stderr().is_terminal());
-        rows.extend(reference_suite::rows(
-            &args.suite_dir,
-            &args.suite_scenes,
-            &solvers,
-            &form_factors,
-            &bars,
-        )?);
-    }
+    let rows = suite()?;
     let corpus = match &args.corpus {
         Some(dir) => crate::corpus::rows(dir, &args.corpus_references, &args.corpus_scenes)?,
         None => Vec::new(),
@@ -209,7 +160,7 @@ fn suite() -> anyhow::Result<Vec<Check>> {
 }
 
 /// Output of `benches/cornell_reference.py` (Mitsuba 3 on `scenes/cornell/scene.toml`).
-const CORNELL_REFERENCE: &str = include_str!("../../data/cornell_reference.json");
+const CORNELL_REFERENCE: &str = include_str!("../data/cornell_reference.json");
 
 /// Elements of our Cornell box solve (948 after quadtree rounding): under a second in release.
 const CORNELL_ELEMENTS: usize = 1000;

@@ -1,7 +1,7 @@
-//! `radiosity validate --suite`: our solvers against the Mitsuba 3 references of
-//! `benches/suite` (scenes with the traits of files made elsewhere: two-sided and non-planar
-//! walls, closed meshes, thin partitions, an emitter against a wall, a Blender-style glTF, a
-//! bare OBJ with thousands of faces, a furnished room).
+//! `cargo xtask suite`: our solvers against the Mitsuba 3 references of `benches/suite`
+//! (scenes with the traits of files made elsewhere: two-sided and non-planar walls, closed
+//! meshes, thin partitions, an emitter against a wall, a Blender-style glTF, a bare OBJ with
+//! thousands of faces, a furnished room).
 //!
 //! Each reference (`benches/suite/reference/<scene>.json`, made by
 //! `benches/suite/reference.py`) holds every object's mean radiosity B per channel with its
@@ -9,22 +9,95 @@
 //! the whole engine runs at its default settings, and one row reports the object and channel
 //! furthest from the reference; it passes within [`TOLERANCE`]. A scene whose reference says it
 //! is `closed` (a room closed on every side) gets a second row: the power its surfaces absorb
-//! over the power they emit, worst channel, which must be one within [`ENERGY_TOLERANCE`]. The files are read from the
-//! repository at run time (`--suite-dir`, default the current directory), not compiled in:
-//! the scenes are a few megabytes.
+//! over the power they emit, worst channel, which must be one within [`ENERGY_TOLERANCE`]. The
+//! rows are those of `radiosity validate` ([`report::check`]), as a Markdown table or JSON. The
+//! files are read from the repository at run time (`--dir`, default this repository), not
+//! compiled in: the scenes are a few megabytes.
 
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use clap::Args;
 use radiosity::mesh::Subdivision;
 use radiosity::pipeline::{self, Settings};
 use radiosity::progress::{Progress, Silent, Work};
 use radiosity::stats::Timings;
 use radiosity::{formfactor, solve, Scene};
+use report::check::{self, Check, Format};
+use report::Bars;
 
-use report::check::{self, Check};
+/// `cargo xtask suite`.
+#[derive(Debug, Args)]
+pub struct SuiteArgs {
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Markdown)]
+    pub format: Format,
+    /// The repository that holds `benches/suite` and `scenes/suite` [default: this one].
+    #[arg(long, value_name = "DIR")]
+    pub dir: Option<PathBuf>,
+    /// Scenes to run (repeatable; default: all).
+    #[arg(long = "scene", value_name = "NAME")]
+    pub scenes: Vec<String>,
+    /// Solvers (repeatable): auto, jacobi, gauss-seidel, progressive, hierarchical, or all
+    /// [default: auto].
+    #[arg(long = "solver", value_name = "NAME")]
+    pub solvers: Vec<String>,
+    /// Form-factor methods (repeatable): raycast, hemicube [default: raycast]. (Analytic form
+    /// factors ignore visibility; every suite scene has shadows.)
+    #[arg(long = "form-factors", value_name = "NAME", value_enum)]
+    pub form_factors: Vec<formfactor::Method>,
+}
 
-use crate::solver::Solver;
+/// Runs the suite, prints its rows, and fails when one is out of tolerance.
+pub fn run(args: &SuiteArgs) -> anyhow::Result<()> {
+    let solvers = solvers(&args.solvers)?;
+    let form_factors = if args.form_factors.is_empty() {
+        vec![formfactor::Method::RayCast]
+    } else {
+        args.form_factors.clone()
+    };
+    let root = args.dir.clone().unwrap_or_else(crate::repository);
+    let bars = Bars::new(std::io::stderr().is_terminal());
+    let checks = rows(&root, &args.scenes, &solvers, &form_factors, &bars)?;
+    let mut out = std::io::stdout().lock();
+    match args.format {
+        Format::Json => {
+            let json: Vec<_> = checks.iter().map(Check::json).collect();
+            writeln!(out, "{}", serde_json::to_string_pretty(&json)?)?;
+        }
+        Format::Markdown => writeln!(out, "{}", check::markdown(&checks))?,
+    }
+    let failed = checks.iter().filter(|c| !c.pass()).count();
+    anyhow::ensure!(failed == 0, "{failed} suite case(s) out of tolerance");
+    Ok(())
+}
+
+/// A solver of the suite: one of the engine's, or `None` for the automatic choice (`auto`).
+type Solver = Option<solve::Method>;
+
+/// The solvers `--solver` names: `auto`, one of the engine's, or `all` (the automatic choice
+/// and every solver); the automatic choice when none is named.
+fn solvers(names: &[String]) -> anyhow::Result<Vec<Solver>> {
+    if names.iter().any(|n| n == "all") {
+        return Ok(std::iter::once(None)
+            .chain(solve::Method::ALL.map(Some))
+            .collect());
+    }
+    if names.is_empty() {
+        return Ok(vec![None]);
+    }
+    names
+        .iter()
+        .map(|n| match n.as_str() {
+            "auto" => Ok(None),
+            _ => n
+                .parse::<solve::Method>()
+                .map(Some)
+                .map_err(|e| anyhow::anyhow!("{e}, auto or all")),
+        })
+        .collect()
+}
 
 /// Largest accepted relative error of any object's radiosity in any channel.
 pub const TOLERANCE: f64 = 0.01;
@@ -61,12 +134,7 @@ pub fn rows(
 ) -> anyhow::Result<Vec<Check>> {
     let folder = root.join("benches").join("suite").join("reference");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&folder)
-        .map_err(|e| {
-            anyhow::anyhow!(
-                "{}: {e}: run from the repository root or give --suite-dir",
-                folder.display()
-            )
-        })?
+        .map_err(|e| anyhow::anyhow!("{}: {e}: give the repository with --dir", folder.display()))?
         .filter_map(|entry| entry.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
         .filter(|p| {
@@ -152,10 +220,8 @@ fn scene_rows(
         // default form factors, `radiosity solve SCENE --form-factors FF` for the others (the
         // default method named explicitly would also count as asking for a uniform mesh).
         method: match solver {
-            Solver::Auto => {
-                solve::plan::unsized_method(ff != formfactor::Settings::default().method())
-            }
-            Solver::Method(m) => Some(m),
+            None => solve::plan::unsized_method(ff != formfactor::Settings::default().method()),
+            Some(m) => Some(m),
         },
     };
     let start = Instant::now();
@@ -182,7 +248,7 @@ fn scene_rows(
         worst.ok_or_else(|| anyhow::anyhow!("{label}: the reference has no objects"))?;
     let run = format!(
         "suite {label} ({}, {}, {seconds:.1} s)",
-        solver.name(),
+        solver.map_or("auto", |m| m.name()),
         ff.name()
     );
     let mut rows = vec![Check {
