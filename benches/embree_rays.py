@@ -6,8 +6,8 @@ Usage:
   python3 benches/embree_rays.py WORKLOAD.bin [...] [--out EMBREE.jsonl]
   python3 benches/embree_rays.py --table OURS.json [...] EMBREE.jsonl [...]
 
-A workload file is written by `radiosity bench --workload DIR` (see
-`radiosity::accel::bench`), little-endian: u32 triangle count N, u32 ray-set count S,
+A workload file is written by `cargo xtask bench --workload DIR` (see
+`crates/xtask/src/throughput/mod.rs`), little-endian: u32 triangle count N, u32 ray-set count S,
 N*9 f32 (a, b, c of each triangle), then S ray sets, each a 16-byte NUL-padded name, a u32 ray
 count M and M*7 f32 (origin, direction, t_max). Ray k is traced with t in (0, t_max[k]), as the
 Rust side does.
@@ -21,7 +21,7 @@ build time (best of 3), the resident memory a first build adds in a fresh proces
 copy of the vertices and indices, its BVH, and the library's own first allocations), and for each ray set best-of-3 rays/s for occlusion and
 closest hit with the occluded/hit counts (to compare with the Rust figures).
 
-The second form reads any number of our reports (`radiosity bench --json`, `.json`) and of
+The second form reads any number of our reports (`cargo xtask bench --json`, `.json`) and of
 Embree's (`.jsonl`), from interleaved runs, and prints the Markdown table of the best figure of
 each (scene, rays, query) over the runs, with the per-core ratio ours / Embree.
 """

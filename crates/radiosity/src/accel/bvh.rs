@@ -195,7 +195,7 @@ impl Bvh {
     /// The surface-area-heuristic cost of the wide tree: Σ over the wide nodes of A(node) and
     /// over the leaves of A(leaf) · packets, divided by A(root) — the steps and packet tests of
     /// a ray through the scene box that visits every box it crosses. A comparison of builders
-    /// (`examples/traversal_counts.rs`), not a prediction of ray speed.
+    /// (`cargo xtask traversal-counts`), not a prediction of ray speed.
     #[must_use]
     pub fn sah_cost(&self) -> f64 {
         let root = f64::from(self.bounds.half_area());

@@ -58,8 +58,8 @@ pub const COVER_LEVELS: u8 = 6;
 /// [`STAND`] reach grows with its size (20 cm for a wall 4 m across), and a leaf far smaller
 /// than that distance (a detail of a fine mesh under the wall's edge) is not split for it. The
 /// cap first bounded the search, when one reach for all (the largest triangle's) made every
-/// small leaf of a million-triangle scene test thousands of triangles (`radiosity bench
-/// --suite hierarchical`, the 1 024 002-triangle field: 312 s); the triangles' own reaches
+/// small leaf of a million-triangle scene test thousands of triangles (`cargo xtask
+/// bench --suite hierarchical`, the 1 024 002-triangle field: 312 s); the triangles' own reaches
 /// ([`Mesh::contact_reaches`]) bound it now, and the cap keeps the meshes as they were.
 const QUERY_DIAMETERS: f32 = 8.0;
 

@@ -62,7 +62,7 @@ const EMITTER_SAMPLES: usize = 64;
 /// hundreds of thousands of root faces, which the hierarchical solver starts from, the emitter
 /// samples fall to keep within it (never below [`MIN_EMITTER_SAMPLES`]). The second pass
 /// measures up to four times the elements of the first, so it may take fewer. Measured with
-/// `radiosity bench --suite hierarchical`: the 256 002-triangle sphere field took 28.0 s before
+/// `cargo xtask bench --suite hierarchical`: the 256 002-triangle sphere field took 28.0 s before
 /// shadow refinement and 33.5 s with 64 samples. Bitterli's staircase (1.8 million elements, a
 /// window light imprinted into 4362 root faces, each a sample while the samples ignored this
 /// bound) meshes in 29 s, where it ran over 1100 s.
