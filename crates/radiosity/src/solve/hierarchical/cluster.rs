@@ -52,6 +52,9 @@ pub struct Cluster {
     pub faces: Range<u32>,
     /// The two child clusters, or none for a leaf cluster (whose children are its faces).
     pub children: Option<[u32; 2]>,
+    /// The plane all its faces lie in, as a unit normal n and n·x (its faces may face either
+    /// way along n), or none when they do not share one (`View::coplanar` reads it).
+    pub plane: Option<(Vec3, f32)>,
 }
 
 /// The cluster tree; cluster 0 is the root (when there are any faces at all).
@@ -254,15 +257,17 @@ impl Clusters {
             }
         }
         let index = self.nodes.len() as u32;
+        let radius = 0.5 * (b.max - b.min).length();
         self.nodes.push(Cluster {
             center: 0.5 * (b.min + b.max),
-            radius: 0.5 * (b.max - b.min).length(),
+            radius,
             area,
             vector_area,
             projected: None,
             facing,
             faces: offset as u32..(offset + ids.len()) as u32,
             children: None,
+            plane: common_plane(mesh, ids.iter().map(|&i| faces[i as usize]), radius),
         });
         index
     }
@@ -365,6 +370,7 @@ impl Build<'_> {
             facing: [0.0; 6],
             faces: 0..0,
             children: None,
+            plane: None,
         });
         let axis = longest_axis(groups.iter().map(|g| g.center));
         let mid = groups.len() / 2;
@@ -423,6 +429,45 @@ pub fn axis_weights(v: glam::DVec3) -> [f64; 6] {
         v.z.max(0.0),
         (-v.z).max(0.0),
     ]
+}
+
+/// The plane of a face (a quadtree node): its patch's unit normal n and n·x at a corner.
+#[must_use]
+pub fn face_plane(mesh: &Mesh, node: u32) -> (Vec3, f32) {
+    let node = &mesh.nodes[node as usize];
+    let n = mesh.patches[node.patch as usize].normal;
+    (n, n.dot(node.face.corners()[0]))
+}
+
+/// Whether two planes (unit normal, offset) are one, either way round, to `tolerance` in the
+/// offset (and 10⁻⁶ in the normals' cosine).
+#[must_use]
+pub fn same_plane(a: (Vec3, f32), b: (Vec3, f32), tolerance: f32) -> bool {
+    let cos = a.0.dot(b.0);
+    let offset = if cos < 0.0 { -b.1 } else { b.1 };
+    cos.abs() >= 1.0 - 1e-6 && (a.1 - offset).abs() <= tolerance
+}
+
+/// The plane every one of `faces` (root-face node ids) lies in, to 10⁻⁵ of `size` at their
+/// corners, or none.
+fn common_plane(
+    mesh: &Mesh,
+    mut faces: impl Iterator<Item = u32>,
+    size: f32,
+) -> Option<(Vec3, f32)> {
+    let plane = face_plane(mesh, faces.next()?);
+    let tolerance = 1e-5 * size;
+    faces
+        .all(|f| {
+            let (n, _) = face_plane(mesh, f);
+            n.dot(plane.0).abs() >= 1.0 - 1e-6
+                && mesh.nodes[f as usize]
+                    .face
+                    .corners()
+                    .iter()
+                    .all(|&q| (plane.0.dot(q) - plane.1).abs() <= tolerance)
+        })
+        .then_some(plane)
 }
 
 /// The axis (0, 1, 2) along which `points` spread the most.

@@ -310,7 +310,7 @@ impl Refiner<'_, '_> {
         }
         if r == s {
             // A cluster with itself: every pair of its children (a face never lights itself).
-            if !r.is_cluster() {
+            if !r.is_cluster() || self.view.coplanar(r, r) {
                 return;
             }
             if let Some(l) = self.unresolved(r, s) {
@@ -411,5 +411,93 @@ mod tests {
         assert!(stopped.links.is_empty() && stopped.splits.is_empty());
         let stopped = round(&view, &oracle, &first.links, &[], &|| true);
         assert!(stopped.links.is_empty() && stopped.splits.is_empty());
+    }
+
+    /// A glowing floor of 24 × 24 quads, one object, lying in one plane, and perhaps a
+    /// block over it: the hierarchical solver's view of it, root faces only.
+    fn floor(tilt: f32) -> (Mesh, Clusters, Bvh) {
+        use crate::scene::{Material, Object, Polygon, Scene};
+        let n = 24;
+        let mut polygons = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                let (x, z) = (i as f32, j as f32);
+                // Counter-clockwise seen from above: facing +y. `tilt` lifts one corner of
+                // the last quad out of the plane.
+                let lift = if i == n - 1 && j == n - 1 { tilt } else { 0.0 };
+                polygons.push(Polygon {
+                    vertices: vec![
+                        glam::Vec3::new(x, 0.0, z),
+                        glam::Vec3::new(x, 0.0, z + 1.0),
+                        glam::Vec3::new(x + 1.0, lift, z + 1.0),
+                        glam::Vec3::new(x + 1.0, 0.0, z),
+                    ],
+                    material: 0,
+                    object: 0,
+                });
+            }
+        }
+        let scene = Scene {
+            materials: vec![Material {
+                emission: crate::Rgb::ONE,
+                ..Material::default()
+            }],
+            objects: vec![Object {
+                name: "floor".into(),
+            }],
+            polygons,
+            ..Scene::default()
+        };
+        let mesh = Mesh::build(&scene, Subdivision::MaxArea(f64::INFINITY));
+        let bvh = Bvh::build(&mesh.triangles);
+        let clusters = Clusters::build(&mesh);
+        (mesh, clusters, bvh)
+    }
+
+    /// Faces in one plane never see each other, so a tessellated floor's clusters, with
+    /// themselves and with each other, exchange nothing: the refinement makes no link and
+    /// opens no cluster of it, however bright it is. Before, their overlapping bounding
+    /// spheres made it open them down to every neighbouring pair of faces (the staircase's
+    /// walls and steps gave tens of millions of such empty pairs), which a floor with one
+    /// corner lifted out of the plane still needs.
+    #[test]
+    fn a_flat_tessellated_floor_is_not_opened_against_itself() {
+        let examined = |tilt: f32| {
+            let (mesh, clusters, bvh) = floor(tilt);
+            let state = State::new(&mesh, &clusters, &bvh);
+            let (node_b, cluster_b) = brightness(&state);
+            let node_spread = spread(&mesh, &node_b);
+            let oracle = Oracle {
+                threshold: 1e-4 * mesh.total_area(),
+                min_area: mesh.total_area() * 1e-6,
+                node_b: &node_b,
+                node_spread: &node_spread,
+                cluster_b: &cluster_b,
+            };
+            let view = View::new(&mesh, &clusters, &bvh);
+            let asked = AtomicUsize::new(0);
+            let counting = || {
+                asked.fetch_add(1, Ordering::SeqCst);
+                false
+            };
+            let round = start(&view, &oracle, &counting);
+            (
+                view.coplanar(Handle::ROOT_CLUSTER, Handle::ROOT_CLUSTER),
+                round.links.len(),
+                asked.into_inner(),
+            )
+        };
+        let (flat, links, asked) = examined(0.0);
+        assert!(flat);
+        assert_eq!(
+            (links, asked),
+            (0, 1),
+            "the root cluster with itself, and no more"
+        );
+        // A corner 0.1 units out of the plane: the floor is no longer one plane, and the
+        // lifted quad does see its neighbours.
+        let (flat, links, asked) = examined(0.1);
+        assert!(!flat);
+        assert!(links > 0 && asked > 100, "{links} links, {asked} pairs");
     }
 }

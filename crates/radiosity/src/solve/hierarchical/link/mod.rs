@@ -37,7 +37,7 @@ mod visibility;
 
 use glam::{DVec3, Vec3};
 
-use super::cluster::Clusters;
+use super::cluster::{face_plane, same_plane, Clusters};
 use crate::accel::Bvh;
 use crate::formfactor::analytic::{point_to_polygon, solid_angle};
 use crate::formfactor::{facing, Receiver, FAR_FIELD};
@@ -292,6 +292,9 @@ impl<'a> View<'a> {
         if !r.is_cluster() && !s.is_cluster() {
             return self.face_to_face(r, s, sight);
         }
+        if self.coplanar(r, s) {
+            return Estimate::Nothing;
+        }
         let Some(Separation {
             cr,
             cs,
@@ -442,6 +445,24 @@ impl<'a> View<'a> {
     fn near(&self, r: Handle, s: Handle) -> bool {
         let ((cr, rr), (cs, rs)) = (self.sphere(r), self.sphere(s));
         cr.distance(cs) < NEAR * (rr + rs)
+    }
+
+    /// Whether every face of `r` and of `s` lies in one plane (either way round), so that no
+    /// two of them see each other: a tessellated wall with itself or with its neighbouring
+    /// pieces. Their bounding spheres overlap, so without this the refinement would open
+    /// them down to pairs of faces only to find each pair empty (the staircase's walls and
+    /// steps made tens of millions of such pairs in the second pass).
+    #[must_use]
+    pub fn coplanar(&self, r: Handle, s: Handle) -> bool {
+        let plane = |h: Handle| match h.end() {
+            End::Cluster(c) => self.clusters.nodes[c].plane,
+            End::Node(n) => Some(face_plane(self.mesh, n as u32)),
+        };
+        let tolerance = 1e-5 * (self.sphere(r).1 + self.sphere(s).1);
+        match (plane(r), plane(s)) {
+            (Some(a), Some(b)) => same_plane(a, b, tolerance),
+            _ => false,
+        }
     }
 
     /// An upper bound on the unoccluded factor F_rs: A_s·max c_r·max c_s / (π·(d − ρ_r − ρ_s)²)
