@@ -1,7 +1,7 @@
 //! The exports of a solved scene, one arm per format, all with one signature: a path, the
 //! [`Solved`] scene and the [`Options`] every format reads what it needs from.
 //!
-//! - `.ply` ([`super::ply`]): the lit mesh in scene units, radiosity and sRGB colours per
+//! - `.ply` ([`super::ply`]): the lit mesh in metres, radiosity and sRGB colours per
 //!   vertex, object names in comments;
 //! - `.glb` ([`super::gltf`]): binary glTF in metres, one mesh per object, vertex colours as
 //!   `options.colours` asks, the cameras;
@@ -65,7 +65,7 @@ impl Format {
             .map(|o| o.name.clone())
             .collect();
         match self {
-            Format::Ply => ply::write_ply(path, &solved.lit, &names),
+            Format::Ply => ply::write_ply(path, &solved.lit, &names, solved.scene.units.metres()),
             Format::Glb => write_glb(
                 path,
                 &solved.lit,

@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! element vertex N
-//! property float x                 position, scene units
+//! property float x                 position, metres
 //! property float y
 //! property float z
 //! property float radiosity_red     radiosity B, W·m⁻², linear (radiance is B/π)
@@ -17,6 +17,10 @@
 //! property list uchar int vertex_indices   counter-clockwise seen from the lit front
 //! property int object                      index into the `comment object` lines
 //! ```
+//!
+//! Positions are in metres, as in the `.glb` export: scene units times the scene's `units`
+//! (a millimetre model arrives at its real size), named by the header line `comment units
+//! metres`, in the scene's own axes (the built-in scenes are right-handed and y-up).
 //!
 //! Object names survive as header lines `comment object <index> <name>` (control characters in a
 //! name become spaces, so the header stays one line per comment).
@@ -36,14 +40,22 @@ use crate::render::tonemap::{auto_exposure, exposure_scale, tonemap_pixel};
 use crate::render::Image;
 
 /// Writes `lit` as a binary little-endian PLY file at `path` (atomically: the file appears
-/// complete or not at all). `object_names[i]` names the faces whose object index is `i`.
+/// complete or not at all), its positions scaled by `metres_per_unit` into metres.
+/// `object_names[i]` names the faces whose object index is `i`.
 ///
 /// # Errors
 /// I/O errors, and `InvalidInput` when the mesh has more vertices than an `int` index holds or
 /// a triangle refers to a missing vertex.
-pub fn write_ply(path: &Path, lit: &LitMesh, object_names: &[String]) -> io::Result<()> {
+pub fn write_ply(
+    path: &Path,
+    lit: &LitMesh,
+    object_names: &[String],
+    metres_per_unit: f64,
+) -> io::Result<()> {
     check(lit)?;
-    write_atomic(path, |out| encode(out, lit, object_names))
+    write_atomic(path, |out| {
+        encode(out, lit, object_names, metres_per_unit as f32)
+    })
 }
 
 /// Rejects meshes that the PLY `int` indices cannot describe.
@@ -60,8 +72,14 @@ fn check(lit: &LitMesh) -> io::Result<()> {
 }
 
 /// Writes the header and the binary body.
-fn encode(out: &mut dyn Write, lit: &LitMesh, object_names: &[String]) -> io::Result<()> {
+fn encode(
+    out: &mut dyn Write,
+    lit: &LitMesh,
+    object_names: &[String],
+    metres: f32,
+) -> io::Result<()> {
     let mut header = String::from("ply\nformat binary_little_endian 1.0\n");
+    header.push_str("comment units metres\n");
     header
         .push_str("comment radiosity lit mesh: radiosity_* = B in W/m^2 (linear, radiance B/pi)\n");
     header.push_str("comment red green blue = B/pi auto-exposed, sRGB 8-bit\n");
@@ -99,7 +117,7 @@ fn encode(out: &mut dyn Write, lit: &LitMesh, object_names: &[String]) -> io::Re
     let mut buf = Vec::with_capacity(lit.positions.len() * 27 + lit.triangles.len() * 17);
     for (i, p) in lit.positions.iter().enumerate() {
         let b = lit.radiosity.get(i).copied().unwrap_or_default();
-        for x in p.to_array() {
+        for x in (*p * metres).to_array() {
             buf.extend_from_slice(&x.to_le_bytes());
         }
         for c in b.to_array() {
@@ -154,7 +172,7 @@ mod tests {
         let dir = scratch("round-trip");
         let path = dir.join("lit.ply");
         let names = vec!["floor".to_string(), "back\nwall".to_string()];
-        write_ply(&path, &square(), &names).expect("write");
+        write_ply(&path, &square(), &names, 1.0).expect("write");
         let bytes = std::fs::read(&path).expect("read");
         let end = b"end_header\n";
         let split = bytes
@@ -164,6 +182,7 @@ mod tests {
             + end.len();
         let header = std::str::from_utf8(&bytes[..split]).expect("ascii header");
         assert!(header.starts_with("ply\nformat binary_little_endian 1.0\n"));
+        assert!(header.contains("comment units metres\n"));
         assert!(header.contains("element vertex 4\n"));
         assert!(header.contains("element face 2\n"));
         assert!(header.contains("comment object 0 floor\n"));
@@ -196,9 +215,31 @@ mod tests {
         let path = dir.join("bad.ply");
         let mut lit = square();
         lit.triangles[1][2] = 9;
-        let err = write_ply(&path, &lit, &[]).expect_err("must fail");
+        let err = write_ply(&path, &lit, &[], 1.0).expect_err("must fail");
         assert_eq!(err.kind(), io::ErrorKind::InvalidInput);
         assert!(!path.exists());
+        std::fs::remove_dir_all(&dir).expect("cleanup");
+    }
+
+    /// A millimetre model arrives at its real size, as in the `.glb`: positions times the
+    /// metres per scene unit, radiosity untouched.
+    #[test]
+    fn positions_are_written_in_metres() {
+        let dir = scratch("metres");
+        let path = dir.join("mm.ply");
+        write_ply(&path, &square(), &[], 0.001).expect("write");
+        let bytes = std::fs::read(&path).expect("read");
+        let end = b"end_header\n";
+        let split = bytes
+            .windows(end.len())
+            .position(|w| w == end)
+            .expect("header end")
+            + end.len();
+        let body = &bytes[split..];
+        let f32_at = |o: usize| f32::from_le_bytes(body[o..o + 4].try_into().expect("4 bytes"));
+        // Vertex 2: (1, 1, 0) millimetres, radiosity (0, 0, 0).
+        assert_eq!([f32_at(54), f32_at(58), f32_at(62)], [0.001, 0.001, 0.0]);
+        assert_eq!(f32_at(27 + 12), (2.0 * PI) as f32);
         std::fs::remove_dir_all(&dir).expect("cleanup");
     }
 }
