@@ -323,7 +323,8 @@ pub struct OutputArgs {
     #[arg(long, value_name = "PATH")]
     pub plot: Option<PathBuf>,
     /// Export the lit mesh (repeatable, one solve for all): .ply (float radiosity and 8-bit
-    /// colours per vertex, metres), .glb (glTF with COLOR_0, metres) or .html (a self-contained WebGL2 viewer).
+    /// colours per vertex, metres), .glb (glTF with COLOR_0, metres) or .html (a
+    /// self-contained WebGL2 viewer).
     #[arg(long, value_name = "PATH")]
     pub export: Vec<PathBuf>,
     /// Colours of the export: `auto` (radiance exposed automatically, clamped to [0, 1]),
