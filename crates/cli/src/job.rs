@@ -215,7 +215,7 @@ pub(crate) fn load(arg: &str, common: &CommonArgs) -> Result<(Scene, f64)> {
             None => scene.warnings.push(note),
         }
     }
-    for warning in &scene.warnings {
+    for warning in crate::warnings::summarise(&scene.warnings) {
         say(common, &format!("warning: {warning}"));
     }
     Ok((scene, start.elapsed().as_secs_f64()))

@@ -36,6 +36,7 @@ mod progress;
 mod settings;
 mod solver;
 mod validate;
+mod warnings;
 
 use std::io::Write;
 use std::process::ExitCode;
