@@ -314,7 +314,34 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
             file.display()
         ));
     }
+    out.mesh.warnings.extend(punctual_lights(doc, file));
     Ok(out)
+}
+
+/// The warning for the file's `KHR_lights_punctual` lamps, if it has any: they are not
+/// imported (radiosity's emitters are surfaces), so the file loads and says what it left out;
+/// its emissive materials light it, or the default sky when none emits.
+fn punctual_lights(doc: &gltf::Document, file: &Path) -> Option<String> {
+    use gltf::khr_lights_punctual::Kind;
+    let mut count = [0usize; 3];
+    for light in doc.lights()? {
+        count[match light.kind() {
+            Kind::Point => 0,
+            Kind::Spot { .. } => 1,
+            Kind::Directional => 2,
+        }] += 1;
+    }
+    let total: usize = count.iter().sum();
+    (total > 0).then(|| {
+        format!(
+            "{}: {total} KHR_lights_punctual light(s) left out ({} point, {} spot, {} \
+             directional): only emissive surfaces light a radiosity scene",
+            file.display(),
+            count[0],
+            count[1],
+            count[2]
+        )
+    })
 }
 
 /// A glTF material as a radiosity material; its name is pushed to `clamped` when its base
@@ -444,6 +471,40 @@ mod tests {
             }
         }
         s
+    }
+
+    /// A file that requires `KHR_lights_punctual` (Blender's exporter with its lamps) loads;
+    /// its lamps are named in a warning.
+    #[test]
+    fn a_file_that_requires_punctual_lights_loads_and_says_they_are_left_out() {
+        let with_lights = sample().replacen(
+            r#""extensionsUsed": ["KHR_materials_emissive_strength"],"#,
+            r#""extensionsUsed": ["KHR_materials_emissive_strength", "KHR_lights_punctual"],
+  "extensionsRequired": ["KHR_lights_punctual"],
+  "extensions": {"KHR_lights_punctual": {"lights": [
+    {"type": "point", "intensity": 100},
+    {"type": "spot", "intensity": 50, "spot": {"outerConeAngle": 0.5}},
+    {"type": "point", "color": [1, 0.5, 0.5]}]}},"#,
+            1,
+        );
+        assert_ne!(with_lights, sample());
+        let g = parse_gltf(with_lights.as_bytes(), Path::new("t.gltf")).expect("loads");
+        assert_eq!(g.mesh.faces.len(), 1);
+        let warning = g
+            .mesh
+            .warnings
+            .iter()
+            .find(|w| w.contains("KHR_lights_punctual"))
+            .expect("a warning");
+        assert!(
+            warning.starts_with(
+                "t.gltf: 3 KHR_lights_punctual light(s) left out (2 point, 1 spot, 0 directional)"
+            ),
+            "{warning}"
+        );
+        // Without lamps, no such warning.
+        let g = parse_gltf(sample().as_bytes(), Path::new("t.gltf")).expect("valid");
+        assert!(!g.mesh.warnings.iter().any(|w| w.contains("KHR_lights")));
     }
 
     #[test]
