@@ -113,7 +113,7 @@ pub enum Quality {
     /// ε = 10⁻⁴ (hierarchical radiosity), or about 4 096 elements where a uniform mesh is asked
     /// for.
     Default,
-    /// ε = 3·10⁻⁵, or about 16 000 elements: a smaller error in about twice the time.
+    /// ε = 3·10⁻⁵, or about 16 000 elements: a smaller error, in more time.
     Final,
 }
 
