@@ -106,15 +106,14 @@ pub struct HemicubeArgs {
 }
 
 /// `--quality`: presets of the subdivision and of hierarchical radiosity's ε, measured on the
-/// evaluated picture (`render`, 256², against Mitsuba 3's, 4 × 4-pixel blocks;
-/// docs/raytracing.md).
+/// evaluated picture (`render`, 256², against Mitsuba 3's, 4 × 4-pixel blocks; measured
+/// figures: docs/figures.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Quality {
     /// ε = 10⁻⁴ (hierarchical radiosity), or about 4 096 elements where a uniform mesh is asked
-    /// for: the Cornell box 0.75 % in 3.6 s, the furnished room 0.35 % in 16 s.
+    /// for.
     Default,
-    /// ε = 3·10⁻⁵, or about 16 000 elements: the Cornell box 0.54 % in 7 s (its reference's
-    /// own noise is 0.21 %), the furnished room 0.33 % in 30 s (0.15 %).
+    /// ε = 3·10⁻⁵, or about 16 000 elements: a smaller error, in more time.
     Final,
 }
 
@@ -232,8 +231,8 @@ pub struct RenderArgs {
     /// log-average luminance maps to middle grey).
     #[arg(long, value_name = "STOPS", allow_negative_numbers = true, value_parser = finite_f32)]
     pub exposure: Option<f32>,
-    /// Rendering mode. `final` by default: measured on the Cornell box at 256² against a
-    /// path tracer, 0.75 % block error against 2.88 % for `radiosity` (docs/raytracing.md).
+    /// Rendering mode. `final` by default: against a path tracer, its block error is a
+    /// fraction of `radiosity`'s (measured figures: docs/figures.md).
     #[arg(long, value_enum, default_value_t = ModeKind::Final)]
     pub mode: ModeKind,
     /// With --mode raytrace: final-gather N rays per pixel at the first diffuse hit, plus

@@ -12,8 +12,8 @@ use crate::solver::Solver;
 /// Elements of `--quality final` (gathering and progressive solvers).
 const FINAL_ELEMENTS: usize = 16_000;
 
-/// ε of `--quality final` (hierarchical radiosity): the furnished room's picture 0.35 % at the
-/// default 10⁻⁴, 0.33 % here; the Cornell box 0.75 % and 0.54 % (docs/raytracing.md).
+/// ε of `--quality final` (hierarchical radiosity), against the default 10⁻⁴: measured
+/// figures, docs/figures.md.
 const FINAL_EPSILON: f64 = 3e-5;
 
 /// Largest rendered image when `--max-memory` is not given, in bytes (8 GiB).

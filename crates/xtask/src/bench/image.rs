@@ -14,7 +14,7 @@ use std::path::PathBuf;
 use std::process::Command;
 use std::time::Instant;
 
-use anyhow::{bail, ensure, Context};
+use anyhow::{bail, Context};
 use radiosity::io::atomic::write_atomic;
 use radiosity::io::image_file::read_pfm;
 use radiosity::progress::{Progress, Work};
@@ -25,8 +25,9 @@ use serde::Serialize;
 use super::BenchArgs;
 
 /// The configurations measured: a name and the `render` flags that make it.
-const CONFIGURATIONS: [(&str, &[&str]); 10] = [
+const CONFIGURATIONS: [(&str, &[&str]); 11] = [
     ("default (--mode final, 16 samples)", &[]),
+    ("--quality final", &["--quality", "final"]),
     (
         "--mode final --samples 64",
         &["--mode", "final", "--samples", "64"],
@@ -88,7 +89,7 @@ struct Figures {
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let reference_path = args.reference.clone().unwrap_or_else(default_reference);
     let reference = read_pfm(&reference_path)?;
-    let exe = radiosity_program()?;
+    let exe = crate::radiosity_program()?;
     let dir = Scratch::new()?;
     let mut out = std::io::stdout().lock();
     writeln!(
@@ -167,26 +168,6 @@ const BLOCK: u32 = 4;
 /// The committed reference, in the repository.
 fn default_reference() -> PathBuf {
     crate::repository().join("benches/image/reference/cornell_256.pfm")
-}
-
-/// The `radiosity` program of this workspace, built by cargo beside this program (the same
-/// target folder and profile) so that the pictures are those of the code as it is.
-fn radiosity_program() -> anyhow::Result<PathBuf> {
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let mut build = Command::new(cargo);
-    build
-        .args(["build", "--quiet", "-p", "cli", "--bin", "radiosity"])
-        .current_dir(crate::repository());
-    if !cfg!(debug_assertions) {
-        build.arg("--release");
-    }
-    let status = build.status().context("cannot run cargo")?;
-    ensure!(
-        status.success(),
-        "cargo could not build the radiosity program"
-    );
-    let this = std::env::current_exe().context("cannot find this program")?;
-    Ok(this.with_file_name(format!("radiosity{}", std::env::consts::EXE_SUFFIX)))
 }
 
 /// A fresh directory for the renders, removed when dropped (also when a render fails).
