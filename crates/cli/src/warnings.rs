@@ -13,16 +13,16 @@ pub(crate) const SHOWN: usize = 3;
 
 /// The warnings to print, in the order of their first occurrence.
 pub(crate) fn summarise(warnings: &[String]) -> Vec<String> {
-    let mut count: HashMap<String, usize> = HashMap::new();
-    for w in warnings {
-        *count.entry(pattern(w)).or_default() += 1;
+    let patterns: Vec<String> = warnings.iter().map(|w| pattern(w)).collect();
+    let mut count: HashMap<&str, usize> = HashMap::new();
+    for p in &patterns {
+        *count.entry(p).or_default() += 1;
     }
-    let mut printed: HashMap<String, usize> = HashMap::new();
+    let mut printed: HashMap<&str, usize> = HashMap::new();
     let mut out = Vec::new();
-    for w in warnings {
-        let key = pattern(w);
-        let total = count[&key];
-        let seen = printed.entry(key).or_default();
+    for (w, p) in warnings.iter().zip(&patterns) {
+        let total = count[p.as_str()];
+        let seen = printed.entry(p).or_default();
         *seen += 1;
         if total <= SHOWN {
             out.push(w.clone());

@@ -160,6 +160,16 @@ mod tests {
         }
     }
 
+    /// Where the binary body starts: just past `end_header\n`.
+    fn body_start(bytes: &[u8]) -> usize {
+        let end = b"end_header\n";
+        bytes
+            .windows(end.len())
+            .position(|w| w == end)
+            .expect("header end")
+            + end.len()
+    }
+
     fn scratch(name: &str) -> std::path::PathBuf {
         let dir = std::env::temp_dir().join(format!("radiosity-ply-{name}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
@@ -174,12 +184,7 @@ mod tests {
         let names = vec!["floor".to_string(), "back\nwall".to_string()];
         write_ply(&path, &square(), &names, 1.0).expect("write");
         let bytes = std::fs::read(&path).expect("read");
-        let end = b"end_header\n";
-        let split = bytes
-            .windows(end.len())
-            .position(|w| w == end)
-            .expect("header end")
-            + end.len();
+        let split = body_start(&bytes);
         let header = std::str::from_utf8(&bytes[..split]).expect("ascii header");
         assert!(header.starts_with("ply\nformat binary_little_endian 1.0\n"));
         assert!(header.contains("comment units metres\n"));
@@ -229,12 +234,7 @@ mod tests {
         let path = dir.join("mm.ply");
         write_ply(&path, &square(), &[], 0.001).expect("write");
         let bytes = std::fs::read(&path).expect("read");
-        let end = b"end_header\n";
-        let split = bytes
-            .windows(end.len())
-            .position(|w| w == end)
-            .expect("header end")
-            + end.len();
+        let split = body_start(&bytes);
         let body = &bytes[split..];
         let f32_at = |o: usize| f32::from_le_bytes(body[o..o + 4].try_into().expect("4 bytes"));
         // Vertex 2: (1, 1, 0) millimetres, radiosity (0, 0, 0).

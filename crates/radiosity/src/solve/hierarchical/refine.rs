@@ -370,6 +370,24 @@ mod tests {
     use crate::accel::Bvh;
     use crate::mesh::Subdivision;
 
+    /// The scene as the hierarchical solver meshes it, root faces only, with its clusters
+    /// and visibility structure.
+    fn root_faces(scene: &crate::scene::Scene) -> (Mesh, Clusters, Bvh) {
+        let mesh = Mesh::build(scene, Subdivision::MaxArea(f64::INFINITY));
+        let bvh = Bvh::build(&mesh.triangles);
+        let clusters = Clusters::build(&mesh);
+        (mesh, clusters, bvh)
+    }
+
+    /// The radiosity of every node, its spread and every cluster's, as the first pass sees
+    /// them (B = E).
+    fn first_pass(mesh: &Mesh, clusters: &Clusters, bvh: &Bvh) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let state = State::new(mesh, clusters, bvh);
+        let (node_b, cluster_b) = brightness(&state);
+        let node_spread = spread(mesh, &node_b);
+        (node_b, node_spread, cluster_b)
+    }
+
     /// Ctrl-C must not wait for a refinement round (minutes on large scenes at small ε): a
     /// round asks its stop question before every link, and once told to stop does no more.
     /// Counting the questions states this without a clock.
@@ -377,13 +395,8 @@ mod tests {
     fn a_round_asks_whether_to_stop_before_each_link_and_skips_the_rest_when_told() {
         // The closed cube glowing on every face, as the first pass sees it (B = E), root
         // faces only, as the hierarchical solver meshes it.
-        let scene = crate::testing::closed_cube(0.5, [1.0; 6]);
-        let mesh = Mesh::build(&scene, Subdivision::MaxArea(f64::INFINITY));
-        let bvh = Bvh::build(&mesh.triangles);
-        let clusters = Clusters::build(&mesh);
-        let state = State::new(&mesh, &clusters, &bvh);
-        let (node_b, cluster_b) = brightness(&state);
-        let node_spread = spread(&mesh, &node_b);
+        let (mesh, clusters, bvh) = root_faces(&crate::testing::closed_cube(0.5, [1.0; 6]));
+        let (node_b, node_spread, cluster_b) = first_pass(&mesh, &clusters, &bvh);
         // A link may move a thousandth of the cube's emitted power (6 m² at B = 1): the
         // face-to-face links are far coarser than that.
         let oracle = Oracle {
@@ -413,8 +426,8 @@ mod tests {
         assert!(stopped.links.is_empty() && stopped.splits.is_empty());
     }
 
-    /// A glowing floor of 24 × 24 quads, one object, lying in one plane, and perhaps a
-    /// block over it: the hierarchical solver's view of it, root faces only.
+    /// A glowing floor of 24 × 24 quads, one object, lying in one plane but for a corner
+    /// lifted by `tilt`: the hierarchical solver's view of it, root faces only.
     fn floor(tilt: f32) -> (Mesh, Clusters, Bvh) {
         use crate::scene::{Material, Object, Polygon, Scene};
         let n = 24;
@@ -448,10 +461,7 @@ mod tests {
             polygons,
             ..Scene::default()
         };
-        let mesh = Mesh::build(&scene, Subdivision::MaxArea(f64::INFINITY));
-        let bvh = Bvh::build(&mesh.triangles);
-        let clusters = Clusters::build(&mesh);
-        (mesh, clusters, bvh)
+        root_faces(&scene)
     }
 
     /// Faces in one plane never see each other, so a tessellated floor's clusters, with
@@ -464,9 +474,7 @@ mod tests {
     fn a_flat_tessellated_floor_is_not_opened_against_itself() {
         let examined = |tilt: f32| {
             let (mesh, clusters, bvh) = floor(tilt);
-            let state = State::new(&mesh, &clusters, &bvh);
-            let (node_b, cluster_b) = brightness(&state);
-            let node_spread = spread(&mesh, &node_b);
+            let (node_b, node_spread, cluster_b) = first_pass(&mesh, &clusters, &bvh);
             let oracle = Oracle {
                 threshold: 1e-4 * mesh.total_area(),
                 min_area: mesh.total_area() * 1e-6,

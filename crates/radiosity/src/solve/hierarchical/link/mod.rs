@@ -458,9 +458,8 @@ impl<'a> View<'a> {
             End::Cluster(c) => self.clusters.nodes[c].plane,
             End::Node(n) => Some(face_plane(self.mesh, n as u32)),
         };
-        let tolerance = 1e-5 * (self.sphere(r).1 + self.sphere(s).1);
         match (plane(r), plane(s)) {
-            (Some(a), Some(b)) => same_plane(a, b, tolerance),
+            (Some(a), Some(b)) => same_plane(a, b, 1e-5 * (self.sphere(r).1 + self.sphere(s).1)),
             _ => false,
         }
     }
