@@ -311,3 +311,125 @@ fn stored_planes(isym: i64, c: &[f64]) -> Result<(Symmetry, Vec<usize>), String>
     }
     Ok((symmetry, planes))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A EULUMDAT file of a rotationally symmetric downlight: 500 cd/klm at the nadir falling
+    /// to 0 at 90°, two lamp sets of 600 and 400 lm, conversion factor `cf`.
+    fn downlight(cf: &str) -> String {
+        let mut lines = vec![
+            "Acme Lighting",
+            "1",
+            "1",
+            "4",
+            "90",
+            "3",
+            "45",
+            "R-17",
+            "Dome 1",
+            "D1",
+            "dome.ldt",
+            "2024-01-01 / test",
+            "300",
+            "0",
+            "100",
+            "200",
+            "0",
+            "10",
+            "10",
+            "10",
+            "10",
+            "100",
+            "70,5",
+            cf,
+            "0",
+            "2",
+            "1",
+            "1",
+            "LED A",
+            "LED B",
+            "600",
+            "400",
+            "3000",
+            "4000",
+            "90",
+            "80",
+            "10",
+            "8",
+        ];
+        lines.extend(["0.5"; 10]);
+        lines.extend(["0", "90", "180", "270"]);
+        lines.extend(["0", "45", "90"]);
+        lines.extend(["500", "250,5", "0"]);
+        lines.join("\r\n")
+    }
+
+    #[test]
+    fn the_fixed_lines_are_read() {
+        let f = parse(&downlight("1"), Path::new("dome.ldt")).unwrap();
+        assert_eq!(f.version, "EULUMDAT");
+        assert_eq!(f.manufacturer, "Acme Lighting");
+        assert_eq!(f.luminaire, "Dome 1");
+        assert_eq!(f.lamp, "LED A");
+        assert_eq!(f.symmetry, Symmetry::Rotational);
+        assert_eq!(f.stored, (1, 3));
+        assert_eq!(f.lamp_flux, Some(1000.0));
+        assert_eq!(f.output_ratio, Some(0.705));
+        assert!((f.declared_flux().unwrap() - 705.0).abs() < 1e-9);
+        // Round (b1 = 0) luminous area 200 mm across, 10 mm high.
+        assert_eq!(
+            f.opening,
+            Opening {
+                length: 0.2,
+                width: 0.2,
+                height: 0.01,
+                round: true
+            }
+        );
+        // cd/klm × 1000 lm / 1000 × conversion factor.
+        assert_eq!(f.distribution.intensity_at(123.0, 0.0), 500.0);
+        assert_eq!(f.distribution.intensity_at(0.0, 45.0), 250.5);
+        let f = parse(&downlight("2,5"), Path::new("dome.ldt")).unwrap();
+        assert_eq!(f.distribution.intensity_at(0.0, 45.0), 626.25);
+    }
+
+    #[test]
+    fn errors_name_the_line() {
+        let err = |text: &str| parse(text, Path::new("dome.ldt")).unwrap_err().to_string();
+        let good = downlight("1");
+        let with = |n: usize, value: &str| {
+            let mut lines: Vec<&str> = good.lines().collect();
+            lines[n - 1] = value;
+            lines.join("\n")
+        };
+        assert_eq!(
+            err(&with(3, "7")),
+            "dome.ldt:3: expected the symmetry indicator Isym (a whole number from 0 to 4), found `7`"
+        );
+        assert_eq!(err(&with(24, "")), "dome.ldt:24: expected the conversion factor for luminous intensities, found an empty line");
+        assert_eq!(
+            err(&with(24, "0")),
+            "dome.ldt:24: the conversion factor must be positive, not 0"
+        );
+        assert_eq!(
+            err(&with(3, "2").replace("\n4\n90\n", "\n3\n90\n")),
+            "dome.ldt:49: Isym 2 needs an even Mc, found Mc = 3"
+        );
+        assert_eq!(
+            err(&with(3, "2").replace("\n0\n90\n180\n270\n", "\n0\n30\n60\n90\n")),
+            "dome.ldt:49: Isym 2 stores the planes C0° to C180°, but the C angles put them at 0° \
+             and 60°"
+        );
+        let lines: Vec<&str> = good.lines().collect();
+        assert_eq!(
+            err(&lines[..lines.len() - 1].join("\n")),
+            "dome.ldt:57: expected 3 luminous intensities, found 2 (the file ends)"
+        );
+        assert_eq!(
+            err("Acme\n1\n"),
+            "dome.ldt:2: expected the symmetry indicator Isym on line 3, found the end of the file"
+        );
+    }
+}

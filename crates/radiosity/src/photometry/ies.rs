@@ -160,10 +160,10 @@ pub fn parse(text: &str, path: &Path) -> Result<PhotometricFile, ParseError> {
     } else {
         return Err(error(
             tilt_index + 1,
-            ErrorKind::Unsupported(format!(
-                "TILT={tilt_value} (a tilt table in another file; write it into this one with \
-                 TILT=INCLUDE)"
-            )),
+            ErrorKind::Unsupported {
+                what: format!("TILT={tilt_value} (a tilt table in another file)"),
+                instead: "write the table into this one with TILT=INCLUDE",
+            },
         ));
     };
 
@@ -188,9 +188,10 @@ pub fn parse(text: &str, path: &Path) -> Result<PhotometricFile, ParseError> {
         let name = if photometric_type == 2 { "B" } else { "A" };
         return Err(error(
             type_line,
-            ErrorKind::Unsupported(format!(
-                "photometric type {photometric_type} (type {name}); only type C (1) is read"
-            )),
+            ErrorKind::Unsupported {
+                what: format!("photometric type {photometric_type} (type {name})"),
+                instead: "only type C (1) is read",
+            },
         ));
     }
     let units = tokens.integer("the units type (1 feet, 2 metres)", 1, 2)?;
@@ -331,5 +332,144 @@ fn lateral_symmetry(c: &[f64]) -> Result<Symmetry, String> {
             "type C horizontal angles run 0–90, 0–180, 90–270 or 0–360 (or are a single angle), \
              found {first}–{last}"
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small bare lamp, 100 cd everywhere, in a given header and tilt.
+    fn lamp(header: &str, tilt: &str) -> String {
+        format!(
+            "{header}[TEST] T1\n[MANUFAC] Acme\n[LUMINAIRE] Globe\n[MORE] opal\n[LAMP] LED 10 W\n\
+             {tilt}\n1 1256.637 1 3 1 1 2 -0.1 -0.1 0.05\n1 1 10\n0 90 180\n0\n100 100 100\n"
+        )
+    }
+
+    fn parse_str(text: &str) -> Result<PhotometricFile, ParseError> {
+        parse(text, Path::new("lamp.ies"))
+    }
+
+    #[test]
+    fn every_revision_header_is_read() {
+        for (header, version) in [
+            ("IESNA91\n", "LM-63-1991"),
+            ("IESNA:LM-63-1995\n", "LM-63-1995"),
+            ("IESNA:LM-63-2002\n", "LM-63-2002"),
+            ("IES:LM-63-2019\n", "LM-63-2019"),
+            ("", "LM-63-1986"),
+        ] {
+            let f = parse_str(&lamp(header, "TILT=NONE")).expect(version);
+            assert_eq!(f.version, version);
+            assert_eq!(f.manufacturer, "Acme");
+            assert_eq!(f.luminaire, "Globe opal");
+            assert_eq!(f.lamp, "LED 10 W");
+            assert_eq!(f.symmetry, Symmetry::Rotational);
+            assert_eq!(f.stored, (1, 3));
+            assert_eq!(f.lamp_flux, Some(1256.637));
+            // A negative width and length: a round opening, 0.1 m across.
+            assert_eq!(
+                f.opening,
+                Opening {
+                    length: 0.1,
+                    width: 0.1,
+                    height: 0.05,
+                    round: true
+                }
+            );
+            assert!(f.tilt.is_none());
+        }
+    }
+
+    #[test]
+    fn multipliers_scale_the_candela_values() {
+        // Candela multiplier 2, ballast factor 0.5 and (LM-63-1995) ballast-lamp factor 3.
+        let text = "IESNA:LM-63-1995\nTILT=NONE\n1 -1 2 2 1 1 1 1 2 0\n0.5 3 10\n0 90\n0\n10 10\n";
+        let f = parse_str(text).unwrap();
+        assert_eq!(f.distribution.intensity_at(0.0, 45.0), 30.0);
+        assert_eq!(
+            f.lamp_flux, None,
+            "absolute photometry declares no lamp flux"
+        );
+        // Feet: 2 ft long, 1 ft wide.
+        assert!(
+            (f.opening.length - 0.6096).abs() < 1e-12 && (f.opening.width - 0.3048).abs() < 1e-12
+        );
+        // In LM-63-2002 the same field is unused.
+        let f = parse_str(&text.replace("1995", "2002")).unwrap();
+        assert_eq!(f.distribution.intensity_at(0.0, 45.0), 10.0);
+    }
+
+    #[test]
+    fn a_tilt_table_is_read_and_interpolated() {
+        let f = parse_str(&lamp(
+            "IESNA:LM-63-2002\n",
+            "TILT=INCLUDE\n1\n3\n0 45 90\n1 0.9\n0.7",
+        ))
+        .unwrap();
+        let t = f.tilt.expect("tilt");
+        assert_eq!(t.geometry, 1);
+        assert_eq!(t.factor(0.0), 1.0);
+        assert!((t.factor(22.5) - 0.95).abs() < 1e-12);
+        assert!((t.factor(67.5) - 0.8).abs() < 1e-12);
+        assert_eq!(t.factor(120.0), 0.7);
+    }
+
+    #[test]
+    fn values_wrap_across_lines_and_commas_separate_them() {
+        let text = "IESNA:LM-63-2002\nTILT=NONE\n1,1000,1,3,2,1,2,0,0,0\n1 1 10\n0 45\n90 0\n180\n\
+                    10,20\n30 11\n21\n31\n";
+        let f = parse_str(text).unwrap();
+        assert_eq!(f.symmetry, Symmetry::PlaneC0C180);
+        assert_eq!(f.distribution.intensity_at(0.0, 90.0), 30.0);
+        assert_eq!(f.distribution.intensity_at(180.0, 45.0), 21.0);
+    }
+
+    #[test]
+    fn errors_name_the_line_and_what_was_expected() {
+        let err = |text: &str| parse_str(text).unwrap_err().to_string();
+        let tilt_file = lamp("IESNA:LM-63-2002\n", "TILT=lamp.tlt");
+        assert_eq!(
+            err(&tilt_file),
+            "lamp.ies:7: TILT=lamp.tlt (a tilt table in another file) is not supported; write \
+             the table into this one with TILT=INCLUDE"
+        );
+        let type_b = lamp("", "TILT=NONE").replace("1 1 2 -0.1", "1 2 2 -0.1");
+        assert_eq!(
+            err(&type_b),
+            "lamp.ies:7: photometric type 2 (type B) is not supported; only type C (1) is read"
+        );
+        // 37 vertical angles announced, 20 given before the file ends.
+        let angles: Vec<String> = (0..20).map(|k| (k * 5).to_string()).collect();
+        let short = format!(
+            "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 37 1 1 2 0 0 0\n1 1 10\n{}\n",
+            angles.join("\n")
+        );
+        assert_eq!(
+            err(&short),
+            "lamp.ies:24: expected 37 vertical angles, found 20 (the file ends)"
+        );
+        assert_eq!(
+            err("IESNA:LM-63-2002\n[TEST] x\n"),
+            "lamp.ies:2: expected a line TILT=NONE, TILT=INCLUDE or TILT=<file>, found the end of the file"
+        );
+        assert_eq!(
+            err("TILT=NONE\n1 1000 1 2 x"),
+            "lamp.ies:2: expected the number of horizontal angles, found `x`"
+        );
+        assert_eq!(
+            err("TILT=NONE\n1 1000 1 2 2 1 3 0 0 0"),
+            "lamp.ies:2: expected the units type (1 feet, 2 metres) (a whole number from 1 to 2), found `3`"
+        );
+        let sideways = "TILT=NONE\n1 1000 1 2 2 1 2 0 0 0\n1 1 1\n0 90\n0 45\n1 1 1 1\n";
+        assert!(err(sideways).starts_with("lamp.ies:5: type C horizontal angles run"));
+        let falling = "TILT=NONE\n1 1000 1 2 1 1 2 0 0 0\n1 1 1\n90 0\n0\n1 1\n";
+        assert_eq!(
+            err(falling),
+            "lamp.ies:4: the vertical angles must rise, found 0 after 90"
+        );
+        let negative = "TILT=NONE\n1 1000 1 2 1 1 2 0 0 0\n1 1 1\n0 90\n0\n1 -1\n";
+        assert!(err(negative).starts_with("lamp.ies:6: the candela table: intensities must be"));
     }
 }

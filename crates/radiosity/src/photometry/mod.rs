@@ -177,8 +177,13 @@ pub enum ErrorKind {
         found: String,
     },
     /// A feature of the format that is not read.
-    #[error("{0} is not supported")]
-    Unsupported(String),
+    #[error("{what} is not supported; {instead}")]
+    Unsupported {
+        /// The feature.
+        what: String,
+        /// What the file could do instead.
+        instead: &'static str,
+    },
     /// A value out of its range or inconsistent with others.
     #[error("{0}")]
     Invalid(String),
