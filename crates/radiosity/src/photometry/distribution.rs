@@ -235,7 +235,8 @@ impl Distribution {
                 symmetry
                     .images(ci)
                     .into_iter()
-                    .map(move |a| (a.rem_euclid(360.0), i))
+                    // `+ 0.0` turns the image −0° of the plane 0° into 0°.
+                    .map(move |a| (a.rem_euclid(360.0) + 0.0, i))
             })
             .map(|(a, i)| (if a >= 360.0 - SAME_ANGLE { 0.0 } else { a }, i))
             .collect();
@@ -665,6 +666,8 @@ mod tests {
         for (s, c) in cases {
             let d = table(s, &c, &g, f);
             assert_eq!(d.c_angles(), full.c_angles(), "{s:?}");
+            // The image −0° of the plane 0° is the plane 0° itself, not a −0° before it.
+            assert!(d.c_angles().iter().all(|c| c.is_sign_positive()), "{s:?}");
             // f(C) and f(−C) may differ in the last bit.
             for &c in full.c_angles() {
                 for &gj in &g {
