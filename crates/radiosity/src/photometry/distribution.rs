@@ -183,7 +183,7 @@ pub struct Distribution {
 const SAME_ANGLE: f64 = 1e-9;
 
 impl Distribution {
-    /// A distribution from a table: `candela[i * gamma.len() + j]` is I(c[i], gamma[j]) in cd,
+    /// A distribution from a table: `candela[i * gamma.len() + j]` is `I(c[i], gamma[j])` in cd,
     /// for the stored planes `c` (degrees, rising in [0, 360]) and angles `gamma` (degrees,
     /// rising in [0, 180]); the planes not stored follow from `symmetry`.
     ///
@@ -466,7 +466,7 @@ impl Distribution {
     /// On the half-plane at `c`, the largest angle from the beam axis (the nadir, or the zenith
     /// when `from_zenith`) at which I still reaches `threshold`, degrees.
     fn half_angle(&self, c: f64, threshold: f64, from_zenith: bool) -> f64 {
-        if !(threshold > 0.0) {
+        if threshold.is_nan() || threshold <= 0.0 {
             return 0.0;
         }
         // (angle from the axis, I) along the half-plane, rising in angle; I is piecewise

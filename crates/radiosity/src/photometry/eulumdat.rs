@@ -149,7 +149,7 @@ pub fn parse(text: &str, path: &Path) -> Result<PhotometricFile, ParseError> {
     f.number(22, "the downward flux fraction DFF")?;
     let lorl = f.number(23, "the light output ratio LORL")?;
     let conversion = f.number(24, "the conversion factor for luminous intensities")?;
-    if !(conversion > 0.0) {
+    if conversion <= 0.0 {
         return Err(f.error(
             24,
             ErrorKind::Invalid(format!(
@@ -188,7 +188,7 @@ pub fn parse(text: &str, path: &Path) -> Result<PhotometricFile, ParseError> {
         f.text(field(4, i), "the colour rendering index")?;
         f.number(field(5, i), "the wattage")?;
     }
-    if !(lamp_flux > 0.0) {
+    if lamp_flux <= 0.0 {
         return Err(f.error(
             field(2, 0),
             ErrorKind::Invalid(
@@ -268,7 +268,8 @@ pub fn parse(text: &str, path: &Path) -> Result<PhotometricFile, ParseError> {
 fn stored_planes(isym: i64, c: &[f64]) -> Result<(Symmetry, Vec<usize>), String> {
     let mc = c.len();
     let quarter = || {
-        if mc % 4 == 0 {
+        // (`usize::is_multiple_of` is newer than the workspace's rust-version.)
+        if 4 * (mc / 4) == mc {
             Ok(mc / 4)
         } else {
             Err(format!(
@@ -281,7 +282,7 @@ fn stored_planes(isym: i64, c: &[f64]) -> Result<(Symmetry, Vec<usize>), String>
         0 => (Symmetry::None, (0..mc).collect(), None),
         1 => (Symmetry::Rotational, vec![0], None),
         2 => {
-            if mc % 2 != 0 {
+            if 2 * (mc / 2) != mc {
                 return Err(format!("Isym 2 needs an even Mc, found Mc = {mc}"));
             }
             (

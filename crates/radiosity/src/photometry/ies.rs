@@ -22,7 +22,7 @@
 //! ```
 //!
 //! From the `TILT=` line on the file is a stream of numbers separated by blanks, commas or line
-//! ends, wrapped anywhere; the reader takes it as such ([`super::text`]).
+//! ends, wrapped anywhere; the reader takes it as such.
 //!
 //! **Tilt.** `TILT=INCLUDE` is followed by the lamp-to-luminaire geometry (1: lamp vertical,
 //! base up or down; 2: lamp horizontal, tilting along its axis; 3: lamp horizontal, tilting
@@ -205,7 +205,7 @@ pub fn parse(text: &str, path: &Path) -> Result<PhotometricFile, ParseError> {
     let ballast_lamp = tokens.number("the ballast-lamp factor (or future use field)")?;
     let _input_watts = tokens.number("the input watts")?;
     let old_factor = matches!(version.as_str(), "LM-63-1991" | "LM-63-1995");
-    if old_factor && !(ballast_lamp > 0.0) {
+    if old_factor && ballast_lamp <= 0.0 {
         return Err(error(
             tokens.last_line(),
             ErrorKind::Invalid(format!(
@@ -258,7 +258,7 @@ pub fn parse(text: &str, path: &Path) -> Result<PhotometricFile, ParseError> {
         lamp: keyword("LAMP"),
         symmetry,
         stored: (horizontal, vertical),
-        lamp_flux: (lumens > 0.0).then(|| lamps as f64 * lumens),
+        lamp_flux: (lumens > 0.0).then_some(lamps as f64 * lumens),
         output_ratio: None,
         opening: Opening {
             length: length.abs() * metres,
