@@ -34,7 +34,8 @@ pub enum Command {
     Compare(CompareArgs),
     /// List the built-in scenes.
     Scenes,
-    /// Describe a scene without solving it: counts, area, emitted power, bounds, warnings.
+    /// Describe a scene without solving it: counts, area, emitted power, bounds, warnings; or a
+    /// luminaire's photometric file (.ies, .ldt): flux, peak, beam and field angles, opening.
     Info(InfoArgs),
     /// Draw one element's hemicube, unfolded, coloured by the source each cell sees.
     Hemicube(HemicubeArgs),
@@ -120,7 +121,8 @@ pub enum Quality {
 /// `radiosity info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// Scene file (.toml, .obj, .gltf, .glb) or built-in scene name (see `radiosity scenes`).
+    /// Scene file (.toml, .obj, .gltf, .glb) or built-in scene name (see `radiosity scenes`),
+    /// or a luminaire's photometric file (.ies IES LM-63, .ldt EULUMDAT).
     pub scene: String,
     /// Count the elements of a subdivision into about N elements.
     #[arg(long, value_name = "N", conflicts_with = "max_element_area",

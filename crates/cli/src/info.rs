@@ -1,5 +1,7 @@
 //! `radiosity info SCENE`: what a scene holds, without solving it.
 //!
+//! A photometric file (`.ies`, `.ldt`) is reported instead by [`crate::photometric`].
+//!
 //! Counts (objects, materials, polygons, patches — one per lit side — and the elements the
 //! subdivision would make), the surface area, the emitted power Φ = Σ A·π·L_e per channel
 //! (W when lengths are metres), the bounding box, the cameras, and the warnings of loading.
@@ -14,6 +16,7 @@ use std::io::Write;
 
 use anyhow::Result;
 use radiosity::mesh::{Mesh, Subdivision};
+use radiosity::photometry;
 use radiosity::Rgb;
 use radiosity::Scene;
 
@@ -21,9 +24,20 @@ use model::brep::{closed_topology, EulerCounts};
 use model::PolyMesh;
 
 use crate::args::InfoArgs;
+use crate::photometric;
 
 /// `radiosity info`.
 pub fn run(args: &InfoArgs) -> Result<()> {
+    let path = std::path::Path::new(&args.scene);
+    if photometry::Format::from_path(path).is_some() {
+        let file = photometry::read(path)?;
+        write!(
+            std::io::stdout().lock(),
+            "{}",
+            photometric::report(path, &file)
+        )?;
+        return Ok(());
+    }
     let scene = Scene::resolve(&args.scene)?;
     let subdivision = match (args.elements, args.max_element_area) {
         (_, Some(a)) => Subdivision::MaxArea(a),

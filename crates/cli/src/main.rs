@@ -8,6 +8,7 @@
 //! radiosity scenes
 //! radiosity hemicube SCENE --element ID -o hemicube.png [--resolution N] [--heatmap]
 //! radiosity info SCENE
+//! radiosity info LUMINAIRE.ies|LUMINAIRE.ldt
 //! radiosity solve SCENE --export scene.html --plot convergence.svg
 //! ```
 //!
@@ -31,6 +32,7 @@ mod hemicube;
 mod info;
 mod interrupt;
 mod job;
+mod photometric;
 mod picture;
 mod progress;
 mod settings;

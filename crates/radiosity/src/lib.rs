@@ -16,6 +16,9 @@
 //! 6. [`render`]: camera, z-buffer rasterizer, ray tracer, the evaluated picture, tone mapping.
 //! 7. [`io`]: mesh files in, images out.
 //!
+//! Beside the pipeline, [`photometry`] reads luminaires' photometric files (IES LM-63,
+//! EULUMDAT) into intensity distributions.
+//!
 //! [`pipeline`] strings them together and [`stats`] reports what happened.
 //!
 //! ## The library road: scene → solve → image
@@ -63,6 +66,7 @@ pub mod formfactor;
 pub mod hash;
 pub mod io;
 pub mod mesh;
+pub mod photometry;
 pub mod pipeline;
 pub mod plot;
 pub mod progress;
