@@ -328,6 +328,12 @@ pub struct OutputArgs {
     /// self-contained WebGL2 viewer).
     #[arg(long, value_name = "PATH")]
     pub export: Vec<PathBuf>,
+    /// Write the illuminance on the scene's calculation grids (`[[grids]]`) into DIR (created
+    /// if missing): `<name>.csv` per grid (columns x,y,z,lux) and `grids.json` (E_avg, E_min,
+    /// E_max, U₀ = E_min/E_avg, E_min/E_max per grid); direct light exact at each point,
+    /// the rest gathered from the solution.
+    #[arg(long, value_name = "DIR")]
+    pub grids: Option<PathBuf>,
     /// Colours of the export: `auto` (radiance exposed automatically, clamped to [0, 1]),
     /// STOPS (radiance × 2^STOPS, clamped), or `linear` (.glb: radiance B/π scaled so that
     /// the brightest vertex is 1, nothing clipped; the absolute radiosity is in the

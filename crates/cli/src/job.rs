@@ -14,17 +14,17 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use radiosity::io::atomic::{write_atomic, Batch};
-use radiosity::io::export;
 use radiosity::io::image_file::write_image;
+use radiosity::io::{self, export};
 use radiosity::pipeline::{self, Solved};
 use radiosity::plot::write_convergence_svg;
 use radiosity::render::{mode, tonemap, ModeKind, RasterSettings};
 use radiosity::scene::check::{camera_problem, CameraProblem};
 use radiosity::scene::{sky, Camera};
-use radiosity::solve;
 use radiosity::solve::checkpoint::{Checkpoint, Checkpointing, Control};
 use radiosity::stats::Timings;
 use radiosity::Scene;
+use radiosity::{grids, solve};
 
 use crate::args::{CommonArgs, FrameArgs, RenderArgs, SolveArgs, ViewArgs};
 use crate::interrupt::{stop_flag, Interrupted};
@@ -214,6 +214,9 @@ pub(crate) fn load(arg: &str, common: &CommonArgs) -> Result<(Scene, f64)> {
             }
             None => scene.warnings.push(note),
         }
+    }
+    if common.outputs.grids.is_some() && scene.grids.is_empty() {
+        bail!("--grids: {arg} has no calculation grids ([[grids]] in a scene file)");
     }
     for warning in crate::warnings::summarise(&scene.warnings) {
         say(common, &format!("warning: {warning}"));
@@ -464,6 +467,27 @@ pub(crate) fn finish(
         stage(&mut batch, path, |tmp| {
             Ok(write_convergence_svg(tmp, &solved.scene.name, history)?)
         })?;
+    }
+    if let Some(dir) = common
+        .outputs
+        .grids
+        .as_ref()
+        .filter(|p| may_write(p, solved, common))
+    {
+        let readings = grids::measure(&solved.scene, &solved.mesh, &solved.solution);
+        for r in &readings {
+            let s = r.statistics;
+            say(
+                common,
+                &format!(
+                    "grid {}: {} points, E_avg {:.1} lx, E_min {:.1} lx, E_max {:.1} lx, U0 {:.2}",
+                    r.name, s.points, s.average, s.minimum, s.maximum, s.uniformity
+                ),
+            );
+        }
+        let unit = solved.scene.units.name();
+        io::grids::stage(&mut batch, dir, &readings, unit)
+            .with_context(|| format!("{}: cannot write the grids", dir.display()))?;
     }
     if let Some(path) = common
         .outputs

@@ -63,6 +63,7 @@
 pub mod accel;
 pub mod color;
 pub mod formfactor;
+pub mod grids;
 pub mod hash;
 pub mod io;
 pub mod mesh;

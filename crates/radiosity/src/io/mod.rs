@@ -4,6 +4,7 @@
 pub mod atomic;
 pub mod export;
 pub mod gltf;
+pub mod grids;
 pub mod html;
 pub mod image_file;
 pub mod ply;

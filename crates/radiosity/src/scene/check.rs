@@ -196,6 +196,42 @@ pub fn check(desc: &SceneDesc) -> Result<(), SceneError> {
     for o in &desc.objects {
         check_object(desc, o)?;
     }
+    let mut grids = HashSet::new();
+    for g in &desc.grids {
+        if !grids.insert(g.name.value.as_str()) {
+            return Err(fail(desc, &g.name, "duplicate grid name".into()));
+        }
+        let name = &g.name.value;
+        if name.is_empty() || name.starts_with('.') || name.contains(['/', '\\', ':']) {
+            return Err(fail(
+                desc,
+                &g.name,
+                format!("grid name {name:?} cannot name its file (<name>.csv)"),
+            ));
+        }
+        let Ok(corners) = <[Vec3; 3]>::try_from(g.corners.value.as_slice()) else {
+            let n = g.corners.value.len();
+            return Err(fail(
+                desc,
+                &g.corners,
+                format!(
+                    "{n} corners, 3 are needed (origin, end of the first axis, end of the second)"
+                ),
+            ));
+        };
+        if let Some(problem) = super::grid::problem(corners, g.spacing.value) {
+            return Err(if problem.contains("line") {
+                fail(desc, &g.corners, problem)
+            } else {
+                fail(desc, &g.spacing, problem)
+            });
+        }
+        if let Some(n) = &g.normal {
+            if n.value.length() <= 0.0 {
+                return Err(fail(desc, n, "normal is zero".into()));
+            }
+        }
+    }
     Ok(())
 }
 

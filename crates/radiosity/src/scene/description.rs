@@ -62,6 +62,22 @@ pub struct SceneDesc {
     pub materials: Vec<MaterialDesc>,
     /// `[[objects]]`, in file order.
     pub objects: Vec<ObjectDesc>,
+    /// `[[grids]]`, in file order.
+    pub grids: Vec<GridDesc>,
+}
+
+/// A calculation grid ([`crate::scene::grid`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridDesc {
+    /// `name`.
+    pub name: Field<String>,
+    /// `corners`: the origin, the end of the first axis, the end of the second.
+    pub corners: Field<Vec<Vec3>>,
+    /// `spacing`: the widest cell side, scene units.
+    pub spacing: Field<f32>,
+    /// `normal` of the measuring surface (default: up for a horizontal grid, else the
+    /// right-hand normal).
+    pub normal: Option<Field<Vec3>>,
 }
 
 /// A perspective camera.

@@ -16,6 +16,7 @@ pub mod environment;
 pub mod error;
 pub mod facing_emitters;
 pub mod frame;
+pub mod grid;
 pub mod import;
 pub mod parse;
 pub mod sky;
@@ -44,6 +45,8 @@ pub struct Scene {
     pub render: RenderDefaults,
     /// The length unit of the coordinates (`units`; metres by default).
     pub units: units::Units,
+    /// Calculation grids (`[[grids]]`), where illuminance is measured.
+    pub grids: Vec<grid::Grid>,
     /// Problems repaired while loading (e.g. a missing MTL file), one line each.
     pub warnings: Vec<String>,
 }

@@ -89,6 +89,7 @@
 //! glass are traced as by [`super::raytrace::render`].
 
 mod luminaires;
+pub mod meter;
 mod near_field;
 mod wanted;
 

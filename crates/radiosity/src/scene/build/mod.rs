@@ -21,6 +21,7 @@ use model::{PolyMesh, Transform};
 use super::check::{polygon_problem, PolygonProblem};
 use super::coincident::{Dropped, SeenFaces};
 use super::description::{Field, ObjectDesc, SceneDesc, ShapeDesc};
+use super::grid::Grid;
 use super::{
     builtin, check, facing_emitters, frame, parse, Camera, Material, Object, Polygon, Scene,
 };
@@ -206,6 +207,19 @@ pub fn build(desc: &SceneDesc) -> Result<Scene, SceneError> {
         .units
         .as_ref()
         .map_or_else(Default::default, |u| u.value);
+    b.scene.grids = desc
+        .grids
+        .iter()
+        .map(|g| {
+            let c = &g.corners.value;
+            Grid::new(
+                &g.name.value,
+                [c[0], c[1], c[2]],
+                g.spacing.value,
+                g.normal.as_ref().map(|n| n.value),
+            )
+        })
+        .collect();
     b.finish(cameras, render)
 }
 

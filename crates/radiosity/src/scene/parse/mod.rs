@@ -9,6 +9,7 @@
 //!
 //! Meaning (ranges, material names, polygon shapes) is checked later, in [`super::check`].
 
+mod grid;
 mod sdf;
 mod shape;
 mod source;
@@ -60,6 +61,7 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc, SceneError> {
         "render",
         "materials",
         "objects",
+        "grids",
     ])?;
     let mut desc = SceneDesc {
         file: file.to_path_buf(),
@@ -115,6 +117,12 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc, SceneError> {
         for (i, item) in src.array(v, "objects")?.into_iter().enumerate() {
             let t = Table::new(&src, format!("objects[{i}]"), item)?;
             desc.objects.push(parse_object(t, i)?);
+        }
+    }
+    if let Some((_, v)) = top.take("grids") {
+        for (i, item) in src.array(v, "grids")?.into_iter().enumerate() {
+            let t = Table::new(&src, format!("grids[{i}]"), item)?;
+            desc.grids.push(grid::parse_grid(t)?);
         }
     }
     Ok(desc)

@@ -1,0 +1,129 @@
+//! Illuminance on the scene's calculation grids, and the statistics a lighting standard asks
+//! of each (EN 12464-1 §4.3–4.4, CIE 171:2006):
+//!
+//! ```text
+//! E_avg = (1/n) Σ E_k,   U₀ = E_min / E_avg,   U_d = E_min / E_max.
+//! ```
+//!
+//! E_k is read at each grid point by [`meter::irradiance`] (direct light exactly, the rest
+//! gathered from the solution). *Lux* is its luminance-weighted channel (Rec. 709 weights,
+//! [`crate::color::luminance`]): a white emitter's radiance given in cd·m⁻² on all three
+//! channels makes the irradiance's channels read in lx, so the scene's numbers are
+//! photometric ones when its emitters are specified that way. Lengths do not enter: a form
+//! factor has no unit, so the illuminance of an area source is the same whatever `units`
+//! says.
+
+use glam::Vec3;
+use serde::Serialize;
+
+use crate::color::luminance;
+use crate::mesh::Mesh;
+use crate::render::evaluated::meter;
+use crate::scene::grid::Grid;
+use crate::solve::Solution;
+use crate::{Rgb, Scene};
+
+/// The readings on one grid.
+#[derive(Clone, Debug)]
+pub struct Reading {
+    /// The grid's name.
+    pub name: String,
+    /// The unit normal the points measure on.
+    pub normal: Vec3,
+    /// The points (scene coordinates), row by row along the grid's first axis.
+    pub points: Vec<Vec3>,
+    /// The irradiance at each point, per channel (W·m⁻², or lx for photometric emitters).
+    pub irradiance: Vec<Rgb>,
+    /// The illuminance at each point (the luminance-weighted channel).
+    pub lux: Vec<f64>,
+    /// Its statistics.
+    pub statistics: Statistics,
+}
+
+/// The statistics of a grid's illuminance.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Statistics {
+    /// Points.
+    pub points: usize,
+    /// E_avg, the mean.
+    pub average: f64,
+    /// E_min.
+    pub minimum: f64,
+    /// E_max.
+    pub maximum: f64,
+    /// U₀ = E_min / E_avg (0 when E_avg is 0).
+    pub uniformity: f64,
+    /// U_d = E_min / E_max (0 when E_max is 0).
+    pub diversity: f64,
+}
+
+impl Statistics {
+    /// The statistics of `values` (none: all zero).
+    #[must_use]
+    pub fn of(values: &[f64]) -> Self {
+        if values.is_empty() {
+            return Self {
+                points: 0,
+                average: 0.0,
+                minimum: 0.0,
+                maximum: 0.0,
+                uniformity: 0.0,
+                diversity: 0.0,
+            };
+        }
+        let average = values.iter().sum::<f64>() / values.len() as f64;
+        let minimum = values.iter().copied().fold(f64::INFINITY, f64::min);
+        let maximum = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 0.0 };
+        Self {
+            points: values.len(),
+            average,
+            minimum,
+            maximum,
+            uniformity: ratio(minimum, average),
+            diversity: ratio(minimum, maximum),
+        }
+    }
+}
+
+/// Reads every grid of `scene` from its solution.
+#[must_use]
+pub fn measure(scene: &Scene, mesh: &Mesh, solution: &Solution) -> Vec<Reading> {
+    scene
+        .grids
+        .iter()
+        .enumerate()
+        .map(|(k, grid)| read(scene, mesh, solution, grid, k as u32))
+        .collect()
+}
+
+/// The reading of one grid; `seed` keeps its rays apart from the other grids'.
+fn read(scene: &Scene, mesh: &Mesh, solution: &Solution, grid: &Grid, seed: u32) -> Reading {
+    let points = grid.points();
+    let irradiance = meter::irradiance(scene, mesh, solution, &points, grid.normal, seed);
+    let lux: Vec<f64> = irradiance.iter().map(|&e| luminance(e)).collect();
+    Reading {
+        name: grid.name.clone(),
+        normal: grid.normal,
+        statistics: Statistics::of(&lux),
+        points,
+        irradiance,
+        lux,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn statistics_follow_their_definitions() {
+        let s = Statistics::of(&[100.0, 200.0, 300.0, 400.0]);
+        assert_eq!(s.points, 4);
+        assert_eq!((s.average, s.minimum, s.maximum), (250.0, 100.0, 400.0));
+        assert_eq!((s.uniformity, s.diversity), (0.4, 0.25));
+        let dark = Statistics::of(&[0.0, 0.0]);
+        assert_eq!((dark.uniformity, dark.diversity), (0.0, 0.0));
+        assert_eq!(Statistics::of(&[]).points, 0);
+    }
+}
