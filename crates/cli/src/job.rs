@@ -480,8 +480,13 @@ pub(crate) fn finish(
             say(
                 common,
                 &format!(
-                    "grid {}: {} points, E_avg {:.1} lx, E_min {:.1} lx, E_max {:.1} lx, U0 {:.2}",
-                    r.name, s.points, s.average, s.minimum, s.maximum, s.uniformity
+                    "grid {}: {} points, E_avg {} lx, E_min {} lx, E_max {} lx, U0 {:.2}",
+                    r.name,
+                    s.points,
+                    grids::rounded(s.average),
+                    grids::rounded(s.minimum),
+                    grids::rounded(s.maximum),
+                    s.uniformity
                 ),
             );
         }

@@ -32,6 +32,10 @@ pub struct Reading {
     pub normal: Vec3,
     /// The points (scene coordinates), row by row along the grid's first axis.
     pub points: Vec<Vec3>,
+    /// Cells along the first and the second axis.
+    pub cells: (u32, u32),
+    /// The lengths of the two axes (scene units).
+    pub size: (f64, f64),
     /// The irradiance at each point, per channel (W·m⁻², or lx for photometric emitters).
     pub irradiance: Vec<Rgb>,
     /// The illuminance at each point (the luminance-weighted channel).
@@ -86,6 +90,17 @@ impl Statistics {
     }
 }
 
+/// An illuminance with three significant digits (at least the units): `512`, `48.3`, `0.366`.
+#[must_use]
+pub fn rounded(lux: f64) -> String {
+    let digits = if lux.abs() >= 100.0 || lux == 0.0 {
+        0
+    } else {
+        (2 - lux.abs().log10().floor() as i32).clamp(0, 9) as usize
+    };
+    format!("{lux:.digits$}")
+}
+
 /// Reads every grid of `scene` from its solution.
 #[must_use]
 pub fn measure(scene: &Scene, mesh: &Mesh, solution: &Solution) -> Vec<Reading> {
@@ -107,6 +122,11 @@ fn read(scene: &Scene, mesh: &Mesh, solution: &Solution, grid: &Grid, seed: u32)
         normal: grid.normal,
         statistics: Statistics::of(&lux),
         points,
+        cells: grid.cells(),
+        size: (
+            f64::from(grid.first.length()),
+            f64::from(grid.second.length()),
+        ),
         irradiance,
         lux,
     }
@@ -125,5 +145,11 @@ mod tests {
         let dark = Statistics::of(&[0.0, 0.0]);
         assert_eq!((dark.uniformity, dark.diversity), (0.0, 0.0));
         assert_eq!(Statistics::of(&[]).points, 0);
+    }
+
+    #[test]
+    fn illuminances_print_with_three_significant_digits() {
+        let printed: Vec<String> = [512.4, 48.31, 0.36617, 0.0, 1.0].map(rounded).into();
+        assert_eq!(printed, ["512", "48.3", "0.366", "0", "1.00"]);
     }
 }

@@ -1,5 +1,7 @@
-//! Grid readings as files: `DIR/<name>.csv` per grid (columns `x,y,z,lux`, one point per
-//! row, coordinates in the scene's units) and `DIR/grids.json` with every grid's statistics.
+//! Grid readings as files: per grid `DIR/<name>.csv` (columns `x,y,z,lux`, one point per row,
+//! coordinates in the scene's units) and `DIR/<name>.svg` (its plan in false colour with
+//! iso-lux lines, [`crate::plot::iso_lux`]), and `DIR/grids.json` with every grid's
+//! statistics.
 //! They are staged in a [`Batch`], to appear with the run's other outputs or not at all.
 
 use std::fmt::Write as _;
@@ -10,6 +12,7 @@ use serde::Serialize;
 
 use super::atomic::Batch;
 use crate::grids::{Reading, Statistics};
+use crate::plot::iso_lux::{plan_svg, Plan};
 
 /// One grid in `grids.json`.
 #[derive(Serialize)]
@@ -51,6 +54,15 @@ pub fn stage(
         let file = format!("{}.csv", r.name);
         let tmp = batch.stage(&dir.join(&file))?;
         std::fs::write(&tmp, csv(r))?;
+        let plan = Plan {
+            name: &r.name,
+            lux: &r.lux,
+            cells: r.cells,
+            size: r.size,
+            unit: length_unit,
+        };
+        let tmp = batch.stage(&dir.join(format!("{}.svg", r.name)))?;
+        std::fs::write(&tmp, plan_svg(&plan))?;
         entries.push(Entry {
             name: &r.name,
             file,
@@ -97,6 +109,8 @@ mod tests {
             irradiance: vec![Rgb::splat(100.0), Rgb::splat(300.0)],
             statistics: Statistics::of(&lux),
             lux,
+            cells: (2, 1),
+            size: (1.0, 0.5),
         };
         let mut batch = Batch::new();
         stage(&mut batch, &dir, &[reading], "metres").unwrap();
@@ -104,7 +118,10 @@ mod tests {
             !dir.join("desk.csv").exists(),
             "nothing appears before the commit"
         );
-        assert_eq!(batch.commit().unwrap().len(), 2);
+        assert_eq!(batch.commit().unwrap().len(), 3);
+        assert!(std::fs::read_to_string(dir.join("desk.svg"))
+            .unwrap()
+            .starts_with("<svg"));
         let csv = std::fs::read_to_string(dir.join("desk.csv")).unwrap();
         assert_eq!(
             csv,

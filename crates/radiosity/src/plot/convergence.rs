@@ -1,5 +1,4 @@
-//! Convergence plots, written directly as SVG (no plotting library, no font files: the text is
-//! SVG `<text>` that the viewer sets in its own sans-serif face).
+//! Convergence plots.
 //!
 //! Two panels share a logarithmic vertical axis, the residual r_k (the relative change of a
 //! gathering sweep, or the unshot fraction of the emitted power after shot k in progressive
@@ -23,6 +22,7 @@ use std::fmt::Write as _;
 use std::io;
 use std::path::Path;
 
+use super::escape;
 use crate::io::atomic::write_atomic;
 use crate::solve::Sample;
 
@@ -147,13 +147,6 @@ pub fn convergence_svg(title: &str, history: &[Sample]) -> String {
 pub fn write_convergence_svg(path: &Path, title: &str, history: &[Sample]) -> io::Result<()> {
     let svg = convergence_svg(title, history);
     write_atomic(path, |w| w.write_all(svg.as_bytes()))
-}
-
-/// Text made safe inside SVG (XML) content.
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
 }
 
 #[cfg(test)]
