@@ -38,7 +38,7 @@
 
 use glam::Vec3;
 
-use super::bvh::{Bvh, DEEP_STACK, SHALLOW_STACK};
+use super::bvh::{Bvh, DEEP_STACK, MID_STACK, SHALLOW_STACK};
 use super::isa;
 use super::node::{is_leaf, leaf_range, Node, WIDTH};
 use super::packet::{Tri4, LANES};
@@ -360,6 +360,8 @@ impl Bvh {
             || {
                 if self.stack_need < SHALLOW_STACK {
                     self.walk::<false, SHALLOW_STACK>(ray, t_max)
+                } else if self.stack_need < MID_STACK {
+                    self.walk::<false, MID_STACK>(ray, t_max)
                 } else {
                     self.walk::<false, DEEP_STACK>(ray, t_max)
                 }
@@ -375,6 +377,8 @@ impl Bvh {
             || {
                 if self.stack_need < SHALLOW_STACK {
                     self.walk::<true, SHALLOW_STACK>(ray, t_max).is_some()
+                } else if self.stack_need < MID_STACK {
+                    self.walk::<true, MID_STACK>(ray, t_max).is_some()
                 } else {
                     self.walk::<true, DEEP_STACK>(ray, t_max).is_some()
                 }
