@@ -94,3 +94,51 @@ fn asking_for_grids_of_a_scene_without_any_is_refused_before_the_work() {
     );
     assert!(!dir.join("lux").exists());
 }
+
+/// Under a CIE overcast sky of zenith luminance L_z a horizontal grid open to the whole sky
+/// reads E_h = 7π L_z / 9 (the sky's closed form) and a daylight factor of 100 %: the sky is
+/// carried by tiles of a far cube, each emitting its mean luminance.
+#[test]
+fn an_open_grid_under_the_overcast_sky_reads_its_closed_form() {
+    let dir = scratch("grids-sky");
+    let scene = r#"
+[sky]
+type = "cie-overcast"
+zenith_luminance = 10000.0
+
+[materials.ground]
+reflectance = 0.2
+
+[[objects]]
+name = "ground"
+material = "ground"
+shape = "polygon"
+vertices = [[-5.0, 0.0, -5.0], [-5.0, 0.0, 5.0], [5.0, 0.0, 5.0], [5.0, 0.0, -5.0]]
+
+[[grids]]
+name = "open"
+corners = [[-1.0, 0.8, -1.0], [1.0, 0.8, -1.0], [-1.0, 0.8, 1.0]]
+spacing = 1.0
+"#;
+    fs::write(dir.join("sky.toml"), scene).unwrap();
+    let out = radiosity()
+        .args(["solve", "sky.toml", "--grids", "lux", "--quiet"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.join("lux/grids.json")).unwrap()).unwrap();
+    let grid = &json["grids"][0];
+    let exact = 7.0 * std::f64::consts::PI * 10000.0 / 9.0;
+    for key in ["minimum", "maximum"] {
+        let e = grid[key].as_f64().unwrap();
+        assert!((e / exact - 1.0).abs() < 0.01, "{key} {e} vs {exact}");
+    }
+    let df = grid["daylight_factor"]["average"].as_f64().unwrap();
+    assert!((df - 100.0).abs() < 1.0, "{df}");
+}
