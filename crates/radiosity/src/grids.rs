@@ -12,12 +12,6 @@
 //! photometric ones when its emitters are specified that way. Lengths do not enter: a form
 //! factor has no unit, so the illuminance of an area source is the same whatever `units`
 //! says.
-//!
-//! Under a CIE sky (`[sky]`, [`crate::scene::environment::cie_sky`]) each reading also gives
-//! the *daylight factor* DF = 100 · E / E_h, E_h the illuminance the same sky gives a horizontal
-//! plane open to all of it: the measure of daylighting codes, independent of the sky's
-//! brightness. It counts every light of the scene in E, so it means what it says in a scene lit
-//! by the sky alone.
 
 use glam::Vec3;
 use serde::Serialize;
@@ -48,9 +42,6 @@ pub struct Reading {
     pub lux: Vec<f64>,
     /// Its statistics.
     pub statistics: Statistics,
-    /// The statistics of the daylight factor, per cent (100 · E / E_h, E_h the unobstructed
-    /// horizontal illuminance of the scene's CIE sky), when the scene has one.
-    pub daylight_factor: Option<Statistics>,
 }
 
 /// The statistics of a grid's illuminance.
@@ -126,12 +117,7 @@ fn read(scene: &Scene, mesh: &Mesh, solution: &Solution, grid: &Grid, seed: u32)
     let points = grid.points();
     let irradiance = meter::irradiance(scene, mesh, solution, &points, grid.normal, seed);
     let lux: Vec<f64> = irradiance.iter().map(|&e| luminance(e)).collect();
-    let daylight_factor = scene.sky_illuminance.filter(|&e| e > 0.0).map(|sky| {
-        let df: Vec<f64> = lux.iter().map(|&e| 100.0 * e / sky).collect();
-        Statistics::of(&df)
-    });
     Reading {
-        daylight_factor,
         name: grid.name.clone(),
         normal: grid.normal,
         statistics: Statistics::of(&lux),
