@@ -877,6 +877,7 @@ fn help_states_every_default() {
         "--stats",
         "--plot",
         "--export",
+        "--grids",
         "--max-element-area",
         "--checkpoint",
         "--resume",
