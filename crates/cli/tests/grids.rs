@@ -5,6 +5,7 @@ use std::fs;
 mod common;
 
 use common::{radiosity, scratch};
+use radiosity::formfactor::analytic::point_to_parallel_rectangle_corner;
 
 /// A 1 m square lamp of radiance 100 facing down over a black floor 0.999 below it, and a grid
 /// just above the floor.
@@ -32,14 +33,6 @@ corners = [[0.0, 0.001, 0.0], [1.0, 0.001, 0.0], [0.0, 0.001, 1.0]]
 spacing = 0.5
 "#;
 
-/// The factor from a point to a parallel a × b rectangle at height c above one of its corners
-/// (Howell's catalogue, C-11).
-fn corner_factor(a: f64, b: f64, c: f64) -> f64 {
-    let (x, y) = (a / c, b / c);
-    let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
-    (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * std::f64::consts::PI)
-}
-
 #[test]
 fn solve_writes_each_grid_and_its_statistics() {
     let dir = scratch("grids-solve");
@@ -61,9 +54,9 @@ fn solve_writes_each_grid_and_its_statistics() {
     // The four points sit alike under the ceiling (a quarter in from two walls): each reads
     // πL·F, F the sum of four corner factors of rectangles 0.25 or 0.75 wide, 0.998 above.
     let h = 0.998;
-    let f = corner_factor(0.25, 0.25, h)
-        + corner_factor(0.75, 0.75, h)
-        + 2.0 * corner_factor(0.25, 0.75, h);
+    let f = point_to_parallel_rectangle_corner(0.25, 0.25, h)
+        + point_to_parallel_rectangle_corner(0.75, 0.75, h)
+        + 2.0 * point_to_parallel_rectangle_corner(0.25, 0.75, h);
     let exact = std::f64::consts::PI * 100.0 * f;
     for row in &rows[1..] {
         let lux: f64 = row.rsplit(',').next().unwrap().parse().unwrap();

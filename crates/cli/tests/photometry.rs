@@ -17,6 +17,18 @@ fn info(dir: &Path, file: &str) -> Output {
         .expect("the binary runs")
 }
 
+/// What `radiosity info FILE` prints, once it has succeeded.
+fn summary(dir: &Path, file: &str) -> String {
+    let out = info(dir, file);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 /// A Lambertian downlight, I = 1000 cd · cos γ on both principal planes' quadrant: Φ = π · 1000
 /// lm, declared as 3141.6 lm of lamps.
 fn downlight_ies() -> String {
@@ -38,14 +50,7 @@ fn downlight_ies() -> String {
 fn info_summarises_an_ies_file() {
     let dir = scratch("info-ies");
     fs::write(dir.join("panel.ies"), downlight_ies()).expect("write");
-    let out = info(&dir, "panel.ies");
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let text = summary(&dir, "panel.ies");
     let value = |key: &str| -> String {
         text.lines()
             .find(|l| l.starts_with(key))
@@ -126,14 +131,7 @@ fn info_summarises_an_ldt_file() {
             .map(|s| s.to_string()),
     );
     fs::write(dir.join("dome.ldt"), lines.join("\n")).expect("write");
-    let out = info(&dir, "dome.ldt");
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let text = summary(&dir, "dome.ldt");
     assert!(text.contains("format        EULUMDAT"), "{text}");
     assert!(text.contains("symmetry      rotational"), "{text}");
     // 400 cd/klm × 2000 lm / 1000.

@@ -5,7 +5,7 @@
 //! E_avg = (1/n) Σ E_k,   U₀ = E_min / E_avg,   U_d = E_min / E_max.
 //! ```
 //!
-//! E_k is read at each grid point by [`meter::irradiance`] (direct light exactly, the rest
+//! E_k is read at each grid point by [`meter::Meter::irradiance`] (direct light exactly, the rest
 //! gathered from the solution). *Lux* is its luminance-weighted channel (Rec. 709 weights,
 //! [`crate::color::luminance`]): a white emitter's radiance given in cd·m⁻² on all three
 //! channels makes the irradiance's channels read in lx, so the scene's numbers are
@@ -104,18 +104,20 @@ pub fn rounded(lux: f64) -> String {
 /// Reads every grid of `scene` from its solution.
 #[must_use]
 pub fn measure(scene: &Scene, mesh: &Mesh, solution: &Solution) -> Vec<Reading> {
-    scene
-        .grids
-        .iter()
-        .enumerate()
-        .map(|(k, grid)| read(scene, mesh, solution, grid, k as u32))
-        .collect()
+    meter::with_meter(scene, mesh, solution, |meter| {
+        scene
+            .grids
+            .iter()
+            .enumerate()
+            .map(|(k, grid)| read(meter, grid, k as u32))
+            .collect()
+    })
 }
 
 /// The reading of one grid; `seed` keeps its rays apart from the other grids'.
-fn read(scene: &Scene, mesh: &Mesh, solution: &Solution, grid: &Grid, seed: u32) -> Reading {
+fn read(meter: &meter::Meter<'_>, grid: &Grid, seed: u32) -> Reading {
     let points = grid.points();
-    let irradiance = meter::irradiance(scene, mesh, solution, &points, grid.normal, seed);
+    let irradiance = meter.irradiance(&points, grid.normal, seed);
     let lux: Vec<f64> = irradiance.iter().map(|&e| luminance(e)).collect();
     Reading {
         name: grid.name.clone(),

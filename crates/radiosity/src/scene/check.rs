@@ -21,7 +21,7 @@ use std::fmt;
 use glam::Vec3;
 
 use super::description::{Field, ObjectDesc, SceneDesc, ShapeDesc};
-use super::{Loc, SceneError};
+use super::{grid, Loc, SceneError};
 use crate::Rgb;
 
 /// Largest distance of a vertex from a polygon's plane, as a fraction of the diagonal of the
@@ -219,11 +219,10 @@ pub fn check(desc: &SceneDesc) -> Result<(), SceneError> {
                 ),
             ));
         };
-        if let Some(problem) = super::grid::problem(corners, g.spacing.value) {
-            return Err(if problem.contains("line") {
-                fail(desc, &g.corners, problem)
-            } else {
-                fail(desc, &g.spacing, problem)
+        if let Some((fault, message)) = grid::problem(corners, g.spacing.value) {
+            return Err(match fault {
+                grid::Fault::Corners => fail(desc, &g.corners, message),
+                grid::Fault::Spacing => fail(desc, &g.spacing, message),
             });
         }
         if let Some(n) = &g.normal {

@@ -101,22 +101,38 @@ fn default_normal(first: Vec3, second: Vec3) -> Vec3 {
     }
 }
 
-/// Why corners and a spacing make no grid (checked when the scene is loaded).
+/// The key of a grid that [`problem`] finds at fault.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fault {
+    /// `corners`.
+    Corners,
+    /// `spacing`.
+    Spacing,
+}
+
+/// Why corners and a spacing make no grid (checked when the scene is loaded): the key at fault
+/// and the message.
 #[must_use]
-pub fn problem(corners: [Vec3; 3], spacing: f32) -> Option<String> {
+pub fn problem(corners: [Vec3; 3], spacing: f32) -> Option<(Fault, String)> {
     let [o, a, b] = corners;
     let (first, second) = (a - o, b - o);
     if !(spacing > 0.0 && spacing.is_finite()) {
-        return Some(format!("spacing {spacing} must be positive"));
+        return Some((
+            Fault::Spacing,
+            format!("spacing {spacing} must be positive"),
+        ));
     }
     let size = first.length().max(second.length());
     if first.cross(second).length() <= 1e-6 * size * size || size <= 0.0 {
-        return Some("the three corners lie on one line: no parallelogram".into());
+        let message = "the three corners lie on one line: no parallelogram";
+        return Some((Fault::Corners, message.into()));
     }
     let count = |axis: Vec3| u64::from(cells(axis.length(), spacing));
     let points = count(first) * count(second);
     (points > MAX_POINTS).then(|| {
-        format!("spacing {spacing} makes {points} points, more than {MAX_POINTS}: widen it")
+        let message =
+            format!("spacing {spacing} makes {points} points, more than {MAX_POINTS}: widen it");
+        (Fault::Spacing, message)
     })
 }
 
@@ -156,11 +172,15 @@ mod tests {
     #[test]
     fn collinear_corners_a_bad_spacing_and_too_many_points_are_refused() {
         let line = [Vec3::ZERO, Vec3::X, Vec3::X * 2.0];
-        assert!(problem(line, 0.1).unwrap().contains("one line"));
+        let fault = |corners, spacing| problem(corners, spacing).unwrap();
+        let (at, message) = fault(line, 0.1);
+        assert!(at == Fault::Corners && message.contains("one line"));
         let square = [Vec3::ZERO, Vec3::X, Vec3::Z];
-        assert!(problem(square, 0.0).unwrap().contains("positive"));
-        assert!(problem(square, f32::NAN).unwrap().contains("positive"));
-        assert!(problem(square, 1e-4).unwrap().contains("more than"));
+        let (at, message) = fault(square, 0.0);
+        assert!(at == Fault::Spacing && message.contains("positive"));
+        assert!(fault(square, f32::NAN).1.contains("positive"));
+        let (at, message) = fault(square, 1e-4);
+        assert!(at == Fault::Spacing && message.contains("more than"));
         assert_eq!(problem(square, 0.01), None);
     }
 }

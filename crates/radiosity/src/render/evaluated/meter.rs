@@ -36,35 +36,49 @@ pub const GATHER_SIDE: u32 = 64;
 /// Shadow rays per luminaire at each point (an 8 × 8 grid), refined in penumbrae.
 const SHADOW_SAMPLES: u32 = 64;
 
-/// The irradiance (W·m⁻² per channel) at each of `points` on a small surface facing the unit
-/// normal `normal`, from the solved `scene`; `seed` tells apart the rays of different calls.
-#[must_use]
-pub fn irradiance(
+/// The meter of a solved scene: the world its rays are traced in (over the solution's lit
+/// mesh) and the emitters of the exact direct light, prepared once for every reading.
+pub struct Meter<'a> {
+    world: World<'a>,
+    luminaires: Luminaires,
+}
+
+/// Prepares the meter of the solved `scene` and hands it to `read`.
+pub fn with_meter<R>(
     scene: &Scene,
     mesh: &Mesh,
     solution: &Solution,
-    points: &[Vec3],
-    normal: Vec3,
-    seed: u32,
-) -> Vec<Rgb> {
+    read: impl FnOnce(&Meter<'_>) -> R,
+) -> R {
     let lit = display::lit_mesh(mesh, &solution.radiosity);
-    let world = World::new(scene, mesh, &lit);
-    let luminaires = Luminaires::new(mesh);
-    points
-        .par_iter()
-        .enumerate()
-        .map(|(k, &x)| {
-            let mut sampler = Sampler::new(k as u32, seed, 0);
-            let direct = luminaires.irradiance(
-                &world,
-                x,
-                normal,
-                (SHADOW_SAMPLES, PENUMBRA_REFINE),
-                &mut sampler,
-            );
-            direct + gathered(&world, x, normal, &mut sampler)
-        })
-        .collect()
+    let meter = Meter {
+        world: World::new(scene, mesh, &lit),
+        luminaires: Luminaires::new(mesh),
+    };
+    read(&meter)
+}
+
+impl Meter<'_> {
+    /// The irradiance (W·m⁻² per channel) at each of `points` on a small surface facing the
+    /// unit normal `normal`; `seed` tells apart the rays of different calls.
+    #[must_use]
+    pub fn irradiance(&self, points: &[Vec3], normal: Vec3, seed: u32) -> Vec<Rgb> {
+        points
+            .par_iter()
+            .enumerate()
+            .map(|(k, &x)| {
+                let mut sampler = Sampler::new(k as u32, seed, 0);
+                let direct = self.luminaires.irradiance(
+                    &self.world,
+                    x,
+                    normal,
+                    (SHADOW_SAMPLES, PENUMBRA_REFINE),
+                    &mut sampler,
+                );
+                direct + gathered(&self.world, x, normal, &mut sampler)
+            })
+            .collect()
+    }
 }
 
 /// E_i at `x` facing `n` (module docs).
@@ -92,18 +106,10 @@ mod tests {
     use std::f64::consts::PI;
 
     use super::*;
+    use crate::formfactor::analytic::point_to_parallel_rectangle_corner;
     use crate::pipeline::{self, Settings};
     use crate::progress::Silent;
     use crate::testing::closed_cube;
-
-    /// The factor from a point to a parallel a × b rectangle at height c above one of its
-    /// corners (Howell's catalogue, C-11), with A = a/c, B = b/c:
-    /// F = (1/2π) [A/√(1+A²) atan(B/√(1+A²)) + B/√(1+B²) atan(A/√(1+B²))].
-    fn corner_factor(a: f64, b: f64, c: f64) -> f64 {
-        let (x, y) = (a / c, b / c);
-        let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
-        (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * PI)
-    }
 
     /// A closed unit cube whose ceiling alone emits (radiance 1) and reflects nothing, the
     /// other faces black: at the floor's centre the meter reads only the ceiling's direct
@@ -116,19 +122,17 @@ mod tests {
         let solved = pipeline::solve(scene, &Settings::default(), &Silent).expect("solves");
         let (scene, mesh, solution) = (&solved.scene, &solved.mesh, &solved.solution);
         let floor = Vec3::new(0.5, 1e-3, 0.5);
-        let up = irradiance(scene, mesh, solution, &[floor], Vec3::Y, 1)[0];
-        let exact = PI * 4.0 * corner_factor(0.5, 0.5, 1.0 - 1e-3);
+        let (up, near) = with_meter(scene, mesh, solution, |m| {
+            let under = [Vec3::new(0.5, 0.999, 0.5)];
+            (
+                m.irradiance(&[floor], Vec3::Y, 1)[0],
+                m.irradiance(&under, Vec3::Y, 1)[0],
+            )
+        });
+        let exact = PI * 4.0 * point_to_parallel_rectangle_corner(0.5, 0.5, 1.0 - 1e-3);
         assert!((up.y / exact - 1.0).abs() < 1e-3, "{} {exact}", up.y);
         // Facing up from just under the ceiling's centre: the whole hemisphere is the
         // ceiling, E = πL.
-        let near = irradiance(
-            scene,
-            mesh,
-            solution,
-            &[Vec3::new(0.5, 0.999, 0.5)],
-            Vec3::Y,
-            1,
-        )[0];
         assert!((near.y / PI - 1.0).abs() < 1e-2, "{}", near.y);
     }
 
@@ -150,14 +154,9 @@ mod tests {
             Vec3::new(0.95, 0.05, 0.5),
         ];
         for normal in [Vec3::Y, Vec3::NEG_X, Vec3::new(1.0, 1.0, 1.0).normalize()] {
-            let e = irradiance(
-                &solved.scene,
-                &solved.mesh,
-                &solved.solution,
-                &points,
-                normal,
-                7,
-            );
+            let e = with_meter(&solved.scene, &solved.mesh, &solved.solution, |m| {
+                m.irradiance(&points, normal, 7)
+            });
             for (x, e) in points.iter().zip(e) {
                 assert!((e.y / b - 1.0).abs() < 0.01, "{x} {normal}: {} vs {b}", e.y);
             }
@@ -178,14 +177,9 @@ mod tests {
                 .build()
                 .unwrap()
                 .install(|| {
-                    irradiance(
-                        &solved.scene,
-                        &solved.mesh,
-                        &solved.solution,
-                        &points,
-                        Vec3::Y,
-                        3,
-                    )
+                    with_meter(&solved.scene, &solved.mesh, &solved.solution, |m| {
+                        m.irradiance(&points, Vec3::Y, 3)
+                    })
                 })
         };
         assert_eq!(read(1), read(2));
