@@ -340,3 +340,142 @@ fn cornell_agrees_with_gauss_seidel_and_converges_with_epsilon() {
     assert!(fine < 0.02, "{fine}");
     assert!(fine < coarse, "{fine} vs {coarse}");
 }
+
+/// A closed room of two-sided walls with a box inside it, under a sky: no light can reach the
+/// inside, whose radiosity is 0, while the outside reads ρ times the irradiance of the sky.
+/// The sky is a far cube of tiles emitting some 3 000 times what the room receives. With the
+/// refinement threshold and the residual taken against that emitted power, the box inside
+/// came out as bright as the outside walls (1.57, through a link from the room's cluster of
+/// lit outer and dark inner sides, which shines its mean) and the inner walls at 1.3 % of the
+/// outside; against the power delivered to what reflects ([`solve::hierarchical::delivered`])
+/// both are below 10⁻⁴ of it.
+#[test]
+fn a_closed_room_under_a_sky_stays_dark_inside() {
+    use radiosity::scene::environment::{Environment, SunSky};
+    let quad = |name: &str, v: [[f32; 3]; 4]| {
+        format!(
+            "[[objects]]\nname = \"{name}\"\nmaterial = \"paint\"\nshape = \"polygon\"\n\
+             vertices = {v:?}\n"
+        )
+    };
+    // The room [0, 6] × [0, 3] × [0, 4], every wall counter-clockwise seen from inside; the
+    // box [2.5, 3.5] × [0.5, 1.5] × [1.5, 2.5] floating in it, its faces seen from outside.
+    let (x, y, z) = (6.0, 3.0, 4.0);
+    let mut text =
+        String::from("[materials.paint]\nreflectance = [0.5, 0.5, 0.5]\ntwo_sided = true\n");
+    for (name, v) in [
+        (
+            "floor",
+            [[0.0, 0.0, 0.0], [0.0, 0.0, z], [x, 0.0, z], [x, 0.0, 0.0]],
+        ),
+        (
+            "ceiling",
+            [[0.0, y, 0.0], [x, y, 0.0], [x, y, z], [0.0, y, z]],
+        ),
+        (
+            "west",
+            [[0.0, 0.0, 0.0], [0.0, y, 0.0], [0.0, y, z], [0.0, 0.0, z]],
+        ),
+        ("east", [[x, 0.0, 0.0], [x, 0.0, z], [x, y, z], [x, y, 0.0]]),
+        (
+            "north",
+            [[0.0, 0.0, 0.0], [x, 0.0, 0.0], [x, y, 0.0], [0.0, y, 0.0]],
+        ),
+        (
+            "south",
+            [[0.0, 0.0, z], [0.0, y, z], [x, y, z], [x, 0.0, z]],
+        ),
+    ] {
+        text += &quad(name, v);
+    }
+    let (lo, hi) = ([2.5, 0.5, 1.5], [3.5, 1.5, 2.5]);
+    for (k, v) in [
+        [
+            [lo[0], lo[1], lo[2]],
+            [hi[0], lo[1], lo[2]],
+            [hi[0], lo[1], hi[2]],
+            [lo[0], lo[1], hi[2]],
+        ],
+        [
+            [lo[0], hi[1], lo[2]],
+            [lo[0], hi[1], hi[2]],
+            [hi[0], hi[1], hi[2]],
+            [hi[0], hi[1], lo[2]],
+        ],
+        [
+            [lo[0], lo[1], lo[2]],
+            [lo[0], lo[1], hi[2]],
+            [lo[0], hi[1], hi[2]],
+            [lo[0], hi[1], lo[2]],
+        ],
+        [
+            [hi[0], lo[1], lo[2]],
+            [hi[0], hi[1], lo[2]],
+            [hi[0], hi[1], hi[2]],
+            [hi[0], lo[1], hi[2]],
+        ],
+        [
+            [lo[0], lo[1], lo[2]],
+            [lo[0], hi[1], lo[2]],
+            [hi[0], hi[1], lo[2]],
+            [hi[0], lo[1], lo[2]],
+        ],
+        [
+            [lo[0], lo[1], hi[2]],
+            [hi[0], lo[1], hi[2]],
+            [hi[0], hi[1], hi[2]],
+            [lo[0], hi[1], hi[2]],
+        ],
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        text += &quad(&format!("box{k}"), v);
+    }
+    let mut scene = Scene::from_toml_str(&text, std::path::Path::new("room.toml")).unwrap();
+    scene
+        .add_environment(&Environment::SunSky(SunSky {
+            sun_direction: glam::Vec3::new(0.3, 0.8, 0.5).normalize(),
+            up: glam::Vec3::Y,
+            turbidity: 3.0,
+            albedo: 0.0,
+            sky_scale: 1.0,
+            sun_scale: 0.0,
+            sun_radius_deg: 0.0,
+            sky: true,
+        }))
+        .unwrap();
+    let solved = run(scene, &hierarchical(1e-4, 1e-6));
+    let names: Vec<String> = solved
+        .scene
+        .objects
+        .iter()
+        .map(|o| o.name.clone())
+        .collect();
+    // Area-weighted mean radiosity (largest channel) of the elements `pick` selects.
+    let mean = |pick: &dyn Fn(&str, bool) -> bool| {
+        let (mut power, mut area) = (0.0, 0.0);
+        for e in 0..solved.mesh.element_count() {
+            let patch = solved.mesh.element_patch(e);
+            if pick(&names[patch.object as usize], patch.back) {
+                let a = solved.mesh.element(e).area();
+                power += a * solved.solution.radiosity[e].max_element();
+                area += a;
+            }
+        }
+        power / area
+    };
+    let wall = |n: &str| !n.starts_with("box") && n != "environment";
+    let outside = mean(&|n, back| wall(n) && back);
+    let inside = mean(&|n, back| wall(n) && !back);
+    let boxed = mean(&|n, _| n.starts_with("box"));
+    assert!(outside > 0.1, "the outside is lit: {outside}");
+    assert!(
+        inside < 1e-4 * outside,
+        "inner walls {inside}, outside {outside}"
+    );
+    assert!(
+        boxed < 1e-4 * outside,
+        "the box inside {boxed}, outside {outside}"
+    );
+}

@@ -114,7 +114,7 @@ pub struct Settings {
     /// emitted power; positive ([`DEFAULT_EPSILON`] by default).
     pub epsilon: f64,
     /// Hierarchical solver: the smallest element area refinement may create, in scene units²,
-    /// positive; `None` for a millionth of the total area ([`hierarchical::MIN_AREA_FRACTION`]).
+    /// positive; `None` for a millionth of the area that reflects light ([`hierarchical::MIN_AREA_FRACTION`]).
     pub min_element_area: Option<f64>,
 }
 

@@ -71,6 +71,10 @@ pub struct Clusters {
     /// Running sums of the areas of `faces`: entry k is the area of the first k, so that a
     /// cluster's faces can be drawn in proportion to their areas ([`Clusters::draw_face`]).
     pub area_before: Vec<f64>,
+    /// Running counts of the faces of `faces` that reflect light (ρ > 0 on some channel):
+    /// entry k counts the first k, so that whether a cluster holds any is a difference
+    /// ([`Clusters::reflects`]).
+    pub reflecting_before: Vec<u32>,
     /// For each root-face node id, its index in `faces` ([`u32::MAX`] for other nodes): which
     /// clusters hold a face is a range test ([`Clusters::holds`]).
     pub slot: Vec<u32>,
@@ -141,6 +145,13 @@ impl Clusters {
                 Some(*sum)
             }))
             .collect();
+        out.reflecting_before = std::iter::once(0)
+            .chain(out.faces.iter().scan(0, |count, &f| {
+                let patch = &mesh.patches[mesh.nodes[f as usize].patch as usize];
+                *count += u32::from(patch.reflectance.max_element() > 0.0);
+                Some(*count)
+            }))
+            .collect();
         out.slot = vec![u32::MAX; faces.iter().map(|&f| f as usize + 1).max().unwrap_or(0)];
         for (k, &f) in out.faces.iter().enumerate() {
             out.slot[f as usize] = k as u32;
@@ -169,6 +180,13 @@ impl Clusters {
         // The first face whose running sum passes the target.
         let k = self.area_before[lo + 1..=hi].partition_point(|&sum| sum <= target);
         self.faces[(lo + k).min(hi - 1)]
+    }
+
+    /// Whether any face of cluster `c` reflects light.
+    #[must_use]
+    pub fn reflects(&self, c: usize) -> bool {
+        let range = &self.nodes[c].faces;
+        self.reflecting_before[range.end as usize] > self.reflecting_before[range.start as usize]
     }
 
     /// Whether cluster `c` holds the root face `f` (a node id).

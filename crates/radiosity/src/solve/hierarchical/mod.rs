@@ -41,6 +41,7 @@
 //! projected area when it has more than [`cluster::TABULATED`] faces.
 
 pub mod cluster;
+pub mod delivered;
 pub mod handle;
 pub mod leaf_rows;
 pub mod link;
@@ -82,7 +83,7 @@ const LINK_BATCH: u64 = 4096;
 /// radiosity (largest channel) splits an element's links on the receiver side.
 pub const GRADIENT: f64 = 0.05;
 
-/// Default minimum element area, as a fraction of the total surface area.
+/// Default minimum element area, as a fraction of the area that reflects light.
 pub const MIN_AREA_FRACTION: f64 = 1e-6;
 
 /// Bytes per quadtree node: the node, its element index and its solver state.
@@ -243,7 +244,8 @@ pub fn run(
             .sum()
     };
     let emitted = power(Rgb::element_sum);
-    let peak_power = power(Rgb::max_element);
+    let reference = delivered::reference_power(mesh, bvh, Rgb::element_sum);
+    let peak_power = delivered::reference_power(mesh, bvh, Rgb::max_element);
     let mut out = Outcome {
         node_radiosity: Vec::new(),
         irradiance: vec![Rgb::ZERO; mesh.element_count()],
@@ -267,7 +269,7 @@ pub fn run(
     let epsilon = settings.epsilon;
     let min_area = settings
         .min_element_area
-        .unwrap_or_else(|| mesh.total_area() * MIN_AREA_FRACTION);
+        .unwrap_or_else(|| reflecting_area(mesh) * MIN_AREA_FRACTION);
     let mut links: Vec<Link> = Vec::new();
     let mut splits: Vec<u32> = Vec::new();
     let mut peak = 0;
@@ -402,7 +404,7 @@ pub fn run(
             }
             let change = state.iterate(mesh, &clusters, &links);
             progress.advance(1);
-            out.record(change / emitted, clock + began.elapsed().as_secs_f64());
+            out.record(change / reference, clock + began.elapsed().as_secs_f64());
             if out.residual < settings.tolerance {
                 break;
             }
@@ -518,6 +520,24 @@ fn leaf_solve(
     }
     out.solve_seconds += start.elapsed().as_secs_f64();
     Some(rows)
+}
+
+/// The area of the patches that reflect light (ρ > 0 on some channel), or of all when none
+/// does: what the default minimum element area is a fraction of. An environment's far cube,
+/// 10³–10⁶ times the scene's area, would otherwise set it (a 6 × 4 × 3 m room under a map
+/// could not have elements below 0.37 m²).
+fn reflecting_area(mesh: &Mesh) -> f64 {
+    let area: f64 = mesh
+        .patches
+        .iter()
+        .filter(|p| p.reflectance.max_element() > 0.0)
+        .map(|p| p.area)
+        .sum();
+    if area > 0.0 {
+        area
+    } else {
+        mesh.total_area()
+    }
 }
 
 /// The largest channel of B of every node and cluster, for the oracle.

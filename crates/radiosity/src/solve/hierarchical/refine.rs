@@ -14,6 +14,13 @@
 //! by a parent would give its children the parent's average factor). A quadtree leaf is split only while its children keep at least the minimum
 //! element area and the deepest level is not reached.
 //!
+//! A receiver that reflects nothing (ρ = 0: an environment's tiles, the default sky, a
+//! Mitsuba area light) keeps B = E whatever it gathers; its links serve the power balance
+//! alone. So it gets one link per pair it is met in, its factor by rays
+//! ([`View::unresolved_factor`]), never refined: refining them split the scene's elements so
+//! that each carried a small part of the light a far sky tile of 10³ m² absorbs, and a closed
+//! room under a uniform environment took 88 million links.
+//!
 //! Splitting a leaf of the mesh renumbers the elements ([`Mesh::refine`]), so a round only
 //! *collects* the leaves it wants split; the caller splits them all at once and runs another
 //! round, in which the pending links descend into the new children. Links are processed in
@@ -200,6 +207,11 @@ impl Refiner<'_, '_> {
         if (self.stop)() {
             return;
         }
+        if !self.view.reflects(l.receiver) {
+            // What it gathers changes no radiosity (module docs): kept as it is.
+            acc.links.push(l);
+            return;
+        }
         let can = |h| Oracle::splittable(self.view.mesh, self.oracle.min_area, h);
         let forced = split == Split::Receiver;
         let side = if (forced || self.oracle.pushes_unevenly(&l)) && can(l.receiver) {
@@ -306,6 +318,15 @@ impl Refiner<'_, '_> {
     /// Estimates a new pair and refines it as far as it needs.
     fn pair(&self, r: Handle, s: Handle, sight: Sight, acc: &mut Round) {
         if (self.stop)() {
+            return;
+        }
+        if !self.view.reflects(r) {
+            // A receiver that reflects nothing (an environment's tiles): one link, by rays,
+            // whatever the pair, for the power balance alone.
+            if r != s || r.is_cluster() {
+                let factor = self.view.unresolved_factor(r, s) as f32;
+                acc.links.push(Link::new(r, s, factor, 0.0, Sight::Unknown));
+            }
             return;
         }
         if r == s {

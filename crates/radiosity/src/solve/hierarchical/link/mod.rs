@@ -251,6 +251,20 @@ impl<'a> View<'a> {
         }
     }
 
+    /// Whether a handle reflects any of the light it receives: a face whose patch has ρ > 0
+    /// on some channel, a cluster holding such a face. What a handle that does not receives
+    /// changes no radiosity ([`super::refine`] never refines links to it).
+    #[must_use]
+    pub fn reflects(&self, h: Handle) -> bool {
+        match h.end() {
+            End::Cluster(c) => self.clusters.reflects(c),
+            End::Node(n) => {
+                let patch = &self.mesh.patches[self.mesh.nodes[n].patch as usize];
+                patch.reflectance.max_element() > 0.0
+            }
+        }
+    }
+
     /// The quadtree node of a handle, `None` for a cluster.
     fn node(&self, h: Handle) -> Option<&Node> {
         h.as_node().map(|n| &self.mesh.nodes[n])
