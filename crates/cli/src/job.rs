@@ -489,6 +489,15 @@ pub(crate) fn finish(
                     s.uniformity
                 ),
             );
+            if let Some(df) = r.daylight_factor {
+                say(
+                    common,
+                    &format!(
+                        "grid {}: daylight factor {:.2} % on average, {:.2} % at least",
+                        r.name, df.average, df.minimum
+                    ),
+                );
+            }
         }
         let unit = solved.scene.units.name();
         io::grids::stage(&mut batch, dir, &readings, unit)

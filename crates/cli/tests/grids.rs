@@ -38,7 +38,15 @@ fn solve_writes_each_grid_and_its_statistics() {
     let dir = scratch("grids-solve");
     fs::write(dir.join("room.toml"), ROOM).unwrap();
     let out = radiosity()
-        .args(["solve", "room.toml", "--grids", "lux", "--quiet"])
+        .args([
+            "solve",
+            "room.toml",
+            "--grids",
+            "lux",
+            "--stats",
+            "s.json",
+            "--quiet",
+        ])
         .current_dir(&dir)
         .output()
         .unwrap();
@@ -86,4 +94,138 @@ fn asking_for_grids_of_a_scene_without_any_is_refused_before_the_work() {
         "{err}"
     );
     assert!(!dir.join("lux").exists());
+}
+
+/// Under a CIE overcast sky of zenith luminance L_z a horizontal grid open to the whole sky
+/// reads E_h = 7π L_z / 9 (the sky's closed form) and a daylight factor of 100 %: the sky is
+/// carried by tiles of a far cube, each emitting its mean luminance.
+#[test]
+fn an_open_grid_under_the_overcast_sky_reads_its_closed_form() {
+    let dir = scratch("grids-sky");
+    let scene = r#"
+[sky]
+type = "cie-overcast"
+zenith_luminance = 10000.0
+
+[materials.ground]
+reflectance = 0.2
+
+[[objects]]
+name = "ground"
+material = "ground"
+shape = "polygon"
+vertices = [[-5.0, 0.0, -5.0], [-5.0, 0.0, 5.0], [5.0, 0.0, 5.0], [5.0, 0.0, -5.0]]
+
+[[grids]]
+name = "open"
+corners = [[-1.0, 0.8, -1.0], [1.0, 0.8, -1.0], [-1.0, 0.8, 1.0]]
+spacing = 1.0
+"#;
+    fs::write(dir.join("sky.toml"), scene).unwrap();
+    let out = radiosity()
+        .args(["solve", "sky.toml", "--grids", "lux", "--quiet"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.join("lux/grids.json")).unwrap()).unwrap();
+    let grid = &json["grids"][0];
+    let exact = 7.0 * std::f64::consts::PI * 10000.0 / 9.0;
+    for key in ["minimum", "maximum"] {
+        let e = grid[key].as_f64().unwrap();
+        assert!((e / exact - 1.0).abs() < 0.01, "{key} {e} vs {exact}");
+    }
+    let df = grid["daylight_factor"]["average"].as_f64().unwrap();
+    assert!((df - 100.0).abs() < 1.0, "{df}");
+}
+
+/// A closed 6 × 3 × 4 m room of two-sided walls under the overcast sky: no daylight gets in,
+/// so its desk grid reads 0 lx, and its flat roof, open to the whole sky, reflects ρ E_h
+/// (E_h = 7π L_z / 9). The sky's far tiles emit some 10⁴ times what reaches the room; judged
+/// against that power, the solver refined nothing in the house: the desk read 7.8 lx (a
+/// daylight factor of 0.03 %) and the roof 7 % too bright.
+#[test]
+fn a_closed_room_under_the_overcast_sky_stays_dark() {
+    let dir = scratch("grids-closed-room");
+    let quad = |name: &str, v: [[f64; 3]; 4]| {
+        format!(
+            "[[objects]]\nname = \"{name}\"\nmaterial = \"paint\"\nshape = \"polygon\"\n\
+             vertices = {v:?}\n"
+        )
+    };
+    let (x, y, z) = (6.0, 3.0, 4.0);
+    let mut scene = String::from(
+        "[sky]\ntype = \"cie-overcast\"\nzenith_luminance = 10000.0\n\n\
+         [materials.paint]\nreflectance = 0.5\ntwo_sided = true\n\n\
+         [[grids]]\nname = \"desk\"\n\
+         corners = [[0.5, 0.85, 0.5], [5.5, 0.85, 0.5], [0.5, 0.85, 3.5]]\nspacing = 0.5\n\n",
+    );
+    // Every wall counter-clockwise seen from inside.
+    for (name, v) in [
+        (
+            "floor",
+            [[0.0, 0.0, 0.0], [0.0, 0.0, z], [x, 0.0, z], [x, 0.0, 0.0]],
+        ),
+        (
+            "ceiling",
+            [[0.0, y, 0.0], [x, y, 0.0], [x, y, z], [0.0, y, z]],
+        ),
+        (
+            "west",
+            [[0.0, 0.0, 0.0], [0.0, y, 0.0], [0.0, y, z], [0.0, 0.0, z]],
+        ),
+        ("east", [[x, 0.0, 0.0], [x, 0.0, z], [x, y, z], [x, y, 0.0]]),
+        (
+            "north",
+            [[0.0, 0.0, 0.0], [x, 0.0, 0.0], [x, y, 0.0], [0.0, y, 0.0]],
+        ),
+        (
+            "south",
+            [[0.0, 0.0, z], [0.0, y, z], [x, y, z], [x, 0.0, z]],
+        ),
+    ] {
+        scene += &quad(name, v);
+    }
+    fs::write(dir.join("room.toml"), scene).unwrap();
+    let out = radiosity()
+        .args([
+            "solve",
+            "room.toml",
+            "--grids",
+            "lux",
+            "--stats",
+            "s.json",
+            "--quiet",
+        ])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.join("lux/grids.json")).unwrap()).unwrap();
+    let df = json["grids"][0]["daylight_factor"]["maximum"]
+        .as_f64()
+        .unwrap();
+    assert!(df < 0.003, "daylight factor {df} % in a closed room");
+    let stats: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.join("s.json")).unwrap()).unwrap();
+    let roof = stats["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|o| o["name"] == "ceiling")
+        .unwrap()["back"][0]
+        .as_f64()
+        .unwrap();
+    let exact = 0.5 * 7.0 * std::f64::consts::PI * 10000.0 / 9.0;
+    assert!((roof / exact - 1.0).abs() < 0.01, "roof {roof} vs {exact}");
 }

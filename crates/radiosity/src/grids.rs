@@ -12,6 +12,12 @@
 //! photometric ones when its emitters are specified that way. Lengths do not enter: a form
 //! factor has no unit, so the illuminance of an area source is the same whatever `units`
 //! says.
+//!
+//! Under a CIE sky (`[sky]`, [`crate::scene::environment::cie_sky`]) each reading also gives
+//! the *daylight factor* DF = 100 · E / E_h, E_h the illuminance the same sky gives a horizontal
+//! plane open to all of it: the measure of daylighting codes, independent of the sky's
+//! brightness. It counts every light of the scene in E, so it means what it says in a scene lit
+//! by the sky alone.
 
 use glam::Vec3;
 use serde::Serialize;
@@ -42,6 +48,9 @@ pub struct Reading {
     pub lux: Vec<f64>,
     /// Its statistics.
     pub statistics: Statistics,
+    /// The statistics of the daylight factor, per cent (100 · E / E_h, E_h the unobstructed
+    /// horizontal illuminance of the scene's CIE sky), when the scene has one.
+    pub daylight_factor: Option<Statistics>,
 }
 
 /// The statistics of a grid's illuminance.
@@ -109,17 +118,23 @@ pub fn measure(scene: &Scene, mesh: &Mesh, solution: &Solution) -> Vec<Reading> 
             .grids
             .iter()
             .enumerate()
-            .map(|(k, grid)| read(meter, grid, k as u32))
+            .map(|(k, grid)| read(meter, grid, k as u32, scene.sky_illuminance))
             .collect()
     })
 }
 
-/// The reading of one grid; `seed` keeps its rays apart from the other grids'.
-fn read(meter: &meter::Meter<'_>, grid: &Grid, seed: u32) -> Reading {
+/// The reading of one grid; `seed` keeps its rays apart from the other grids'. `sky` is the
+/// unobstructed horizontal illuminance of the scene's CIE sky, if it has one.
+fn read(meter: &meter::Meter<'_>, grid: &Grid, seed: u32, sky: Option<f64>) -> Reading {
     let points = grid.points();
     let irradiance = meter.irradiance(&points, grid.normal, seed);
     let lux: Vec<f64> = irradiance.iter().map(|&e| luminance(e)).collect();
+    let daylight_factor = sky.filter(|&e| e > 0.0).map(|sky| {
+        let df: Vec<f64> = lux.iter().map(|&e| 100.0 * e / sky).collect();
+        Statistics::of(&df)
+    });
     Reading {
+        daylight_factor,
         name: grid.name.clone(),
         normal: grid.normal,
         statistics: Statistics::of(&lux),

@@ -24,6 +24,9 @@ struct Entry<'a> {
     /// E_avg, E_min, E_max (lx), U₀, U_d and the point count.
     #[serde(flatten)]
     statistics: Statistics,
+    /// The daylight factor's statistics (per cent), under a CIE sky.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    daylight_factor: Option<Statistics>,
 }
 
 /// `grids.json`.
@@ -68,6 +71,7 @@ pub fn stage(
             file,
             normal: r.normal.to_array(),
             statistics: r.statistics,
+            daylight_factor: r.daylight_factor,
         });
     }
     let summary = Summary {
@@ -111,6 +115,7 @@ mod tests {
             lux,
             cells: (2, 1),
             size: (1.0, 0.5),
+            daylight_factor: None,
         };
         let mut batch = Batch::new();
         stage(&mut batch, &dir, &[reading], "metres").unwrap();

@@ -21,6 +21,7 @@ use std::fmt;
 use glam::Vec3;
 
 use super::description::{Field, ObjectDesc, SceneDesc, ShapeDesc};
+use super::environment::CieSkyKind;
 use super::{grid, Loc, SceneError};
 use crate::Rgb;
 
@@ -195,6 +196,41 @@ pub fn check(desc: &SceneDesc) -> Result<(), SceneError> {
     }
     for o in &desc.objects {
         check_object(desc, o)?;
+    }
+    if let Some(sky) = &desc.sky {
+        let Some(kind) = CieSkyKind::named(&sky.kind.value) else {
+            let names = CieSkyKind::NAMES.join(", ");
+            return Err(fail(
+                desc,
+                &sky.kind,
+                format!("unknown sky type (known: {names})"),
+            ));
+        };
+        let l = sky.zenith_luminance.value;
+        if l < 0.0 {
+            return Err(fail(
+                desc,
+                &sky.zenith_luminance,
+                format!("{l} must not be negative"),
+            ));
+        }
+        match (&sky.sun, kind) {
+            (Some(sun), _) if sun.value.y <= 0.0 => {
+                return Err(fail(
+                    desc,
+                    sun,
+                    "the sun must be above the horizon (y > 0)".into(),
+                ));
+            }
+            (None, CieSkyKind::Type12) => {
+                return Err(fail(
+                    desc,
+                    &sky.kind,
+                    "cie-12 needs `sun`, the direction towards the sun".into(),
+                ));
+            }
+            _ => {}
+        }
     }
     let mut grids = HashSet::new();
     for g in &desc.grids {

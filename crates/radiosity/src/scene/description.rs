@@ -64,6 +64,19 @@ pub struct SceneDesc {
     pub objects: Vec<ObjectDesc>,
     /// `[[grids]]`, in file order.
     pub grids: Vec<GridDesc>,
+    /// `[sky]`, a CIE standard sky around the scene.
+    pub sky: Option<SkyDesc>,
+}
+
+/// A CIE standard sky ([`crate::scene::environment::cie_sky`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SkyDesc {
+    /// `type`: `cie-overcast`, `cie-1` or `cie-12`.
+    pub kind: Field<String>,
+    /// `zenith_luminance`, cd·m⁻².
+    pub zenith_luminance: Field<f64>,
+    /// `sun`: the direction towards the sun (needed by `cie-12`).
+    pub sun: Option<Field<Vec3>>,
 }
 
 /// A calculation grid ([`crate::scene::grid`]).

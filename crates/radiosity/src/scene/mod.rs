@@ -47,6 +47,9 @@ pub struct Scene {
     pub units: units::Units,
     /// Calculation grids (`[[grids]]`), where illuminance is measured.
     pub grids: Vec<grid::Grid>,
+    /// The unobstructed horizontal illuminance of the scene's CIE sky (`[sky]`), lx: what
+    /// daylight factors are relative to.
+    pub sky_illuminance: Option<f64>,
     /// Problems repaired while loading (e.g. a missing MTL file), one line each.
     pub warnings: Vec<String>,
 }

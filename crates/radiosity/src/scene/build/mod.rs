@@ -21,6 +21,7 @@ use model::{PolyMesh, Transform};
 use super::check::{polygon_problem, PolygonProblem};
 use super::coincident::{Dropped, SeenFaces};
 use super::description::{Field, ObjectDesc, SceneDesc, ShapeDesc};
+use super::environment::{CieSky, CieSkyKind, Environment};
 use super::grid::Grid;
 use super::{
     builtin, check, facing_emitters, frame, parse, Camera, Material, Object, Polygon, Scene,
@@ -220,6 +221,17 @@ pub fn build(desc: &SceneDesc) -> Result<Scene, SceneError> {
             )
         })
         .collect();
+    if let Some(sky) = &desc.sky {
+        let sky = CieSky {
+            kind: CieSkyKind::named(&sky.kind.value).expect("checked"),
+            zenith_luminance: sky.zenith_luminance.value,
+            sun_direction: sky.sun.as_ref().map_or(Vec3::Y, |s| s.value.normalize()),
+            up: Vec3::Y,
+        };
+        b.scene.sky_illuminance = Some(sky.horizontal_illuminance());
+        b.scene.cameras.clone_from(&cameras);
+        b.scene.add_environment(&Environment::Cie(sky))?;
+    }
     b.finish(cameras, render)
 }
 

@@ -13,11 +13,13 @@
 //! | [`Environment::Constant`] | the default sky's box ([`super::enclosure`]), one material | exact |
 //! | [`Environment::Map`] | a far cube split into tiles ([`tiles`]) | the map's mean over each tile, Mitsuba 3's mapping ([`latlong`]) |
 //! | [`Environment::SunSky`] | tiles, and the sun as a disc ([`Disc`]) in front of them | Preetham et al. 1999 ([`daylight`]) |
+//! | [`Environment::Cie`] | tiles | the CIE standard skies ([`cie_sky`]) |
 //!
 //! One function, [`Distant::radiance`], is L_env(ω): the tiles integrate it, and
 //! [`latlong::rasterize`] writes it as a map a path tracer can use in place of the scene's own
 //! emitter, so both see the same light.
 
+pub mod cie_sky;
 pub mod daylight;
 pub mod latlong;
 pub mod tiles;
@@ -28,6 +30,7 @@ use glam::{DVec3, Mat4, Vec3};
 
 use super::{enclosure, sky, Scene, SceneError};
 use crate::Rgb;
+pub use cie_sky::{CieSky, CieSkyKind};
 pub use daylight::Daylight;
 pub use latlong::LatLong;
 
@@ -53,6 +56,8 @@ pub enum Environment {
     },
     /// The sun and a clear sky (Mitsuba 0.6 `sunsky`/`sun`/`sky`, Mitsuba 3 `sunsky`).
     SunSky(SunSky),
+    /// A CIE standard sky (a scene file's `[sky]`).
+    Cie(CieSky),
 }
 
 /// The parameters of a sun and sky, in world space.
@@ -113,6 +118,8 @@ pub enum Distant {
     Map(LatLong),
     /// The sun and sky.
     Daylight(Daylight),
+    /// A CIE standard sky, its luminance on the three channels.
+    Cie(CieSky),
 }
 
 impl Distant {
@@ -123,6 +130,7 @@ impl Distant {
             Self::Constant(l) => *l,
             Self::Map(map) => map.radiance(dir),
             Self::Daylight(daylight) => daylight.radiance(dir),
+            Self::Cie(sky) => Rgb::splat(sky.luminance(dir)),
         }
     }
 
@@ -130,7 +138,7 @@ impl Distant {
     #[must_use]
     pub fn disc(&self) -> Option<&Disc> {
         match self {
-            Self::Constant(_) | Self::Map(_) => None,
+            Self::Constant(_) | Self::Map(_) | Self::Cie(_) => None,
             Self::Daylight(daylight) => daylight.disc(),
         }
     }
@@ -157,6 +165,14 @@ impl Environment {
                 to_world,
             } => LatLong::read(path, *scale, *to_world).map(Distant::Map),
             Self::SunSky(s) => Daylight::new(s).map(Distant::Daylight),
+            Self::Cie(sky) => {
+                let l = sky.zenith_luminance;
+                if !(l.is_finite() && l >= 0.0) {
+                    return Err(SceneError::new(format!("{l} is not a luminance"))
+                        .with_key("zenith_luminance"));
+                }
+                Ok(Distant::Cie(sky.clone()))
+            }
         }
     }
 }

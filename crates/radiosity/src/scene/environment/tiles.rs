@@ -52,7 +52,7 @@
 use glam::{DMat3, DVec3, Vec3};
 use rayon::prelude::*;
 
-use super::{Disc, Distant, Environment};
+use super::{CieSky, Disc, Distant, Environment, SunSky};
 use crate::color::luminance;
 use crate::formfactor::analytic::solid_angle;
 use crate::scene::enclosure;
@@ -156,8 +156,8 @@ impl Cube {
                 let m = to_world.as_dmat4();
                 frame_with_up(m.y_axis.truncate(), m.x_axis.truncate())
             }
-            Environment::SunSky(s) => {
-                let up = s.up.as_dvec3();
+            Environment::SunSky(SunSky { up, .. }) | Environment::Cie(CieSky { up, .. }) => {
+                let up = up.as_dvec3();
                 let axis = [DVec3::X, DVec3::Y, DVec3::Z]
                     .into_iter()
                     .min_by(|a, b| a.dot(up).abs().total_cmp(&b.dot(up).abs()))
@@ -202,7 +202,7 @@ impl Cube {
     fn subcells(r: &Rect, distant: &Distant) -> u32 {
         match distant {
             Distant::Constant(_) => 1,
-            Distant::Daylight(_) => SMOOTH_SUBCELLS,
+            Distant::Daylight(_) | Distant::Cie(_) => SMOOTH_SUBCELLS,
             Distant::Map(map) => {
                 let n = (2.0 * Self::solid_angle(r).sqrt() / map.pixel_angle()).ceil();
                 (n as u32).clamp(4, MAX_SUBCELLS)

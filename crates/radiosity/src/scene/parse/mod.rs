@@ -21,7 +21,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use super::description::{CameraDesc, Field, MaterialDesc, RenderDesc, SceneDesc};
+use super::description::{CameraDesc, Field, MaterialDesc, RenderDesc, SceneDesc, SkyDesc};
 use super::units::UnknownUnit;
 use super::SceneError;
 use crate::Rgb;
@@ -62,6 +62,7 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc, SceneError> {
         "materials",
         "objects",
         "grids",
+        "sky",
     ])?;
     let mut desc = SceneDesc {
         file: file.to_path_buf(),
@@ -118,6 +119,15 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc, SceneError> {
             let t = Table::new(&src, format!("objects[{i}]"), item)?;
             desc.objects.push(parse_object(t, i)?);
         }
+    }
+    if let Some((_, v)) = top.take("sky") {
+        let mut t = Table::new(&src, "sky".into(), v)?;
+        t.check_keys(&["type", "zenith_luminance", "sun"])?;
+        desc.sky = Some(SkyDesc {
+            kind: t.required_with("type", |k, v| src.string(k, v))?,
+            zenith_luminance: t.required_with("zenith_luminance", |k, v| src.f64(k, v))?,
+            sun: t.optional("sun", |k, v| src.vec3(k, v))?,
+        });
     }
     if let Some((_, v)) = top.take("grids") {
         for (i, item) in src.array(v, "grids")?.into_iter().enumerate() {
