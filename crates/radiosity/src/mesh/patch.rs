@@ -48,6 +48,10 @@ pub struct Patch {
     pub emission: Rgb,
     /// Polygons whose outline was cut into the root faces ([`super::imprint`]).
     pub imprinted: Vec<u32>,
+    /// Whether it is part of a distant environment's far cube
+    /// ([`crate::scene::environment`]): light that the hierarchical solver gathers along rays
+    /// rather than links ([`crate::solve::hierarchical::distant`]).
+    pub distant: bool,
 }
 
 /// The patches of `scene` with the root faces of each patch's element quadtree, cut along
@@ -91,6 +95,8 @@ pub(super) fn patches(scene: &Scene, discontinuity: bool) -> Vec<(Patch, Vec<Fac
             reflectance: material.reflectance,
             emission: material.emission * std::f64::consts::PI,
             imprinted: piece.imprinted,
+            distant: scene.objects[polygon.object].name == crate::scene::environment::NAME
+                && material.reflectance == Rgb::ZERO,
         };
         if two_sided {
             let back = Patch {

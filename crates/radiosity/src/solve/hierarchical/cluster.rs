@@ -75,6 +75,8 @@ pub struct Clusters {
     /// entry k counts the first k, so that whether a cluster holds any is a difference
     /// ([`Clusters::reflects`]).
     pub reflecting_before: Vec<u32>,
+    /// The same for the faces of a distant environment ([`Clusters::distant`]).
+    pub distant_before: Vec<u32>,
     /// For each root-face node id, its index in `faces` ([`u32::MAX`] for other nodes): which
     /// clusters hold a face is a range test ([`Clusters::holds`]).
     pub slot: Vec<u32>,
@@ -109,6 +111,8 @@ impl Clusters {
                 Some(g) if g.object == object(faces[i as usize]) => g.faces.end = k + 1,
                 _ => groups.push(Group {
                     object: object(faces[i as usize]),
+                    distant: mesh.patches[mesh.nodes[faces[i as usize] as usize].patch as usize]
+                        .distant,
                     faces: k..k + 1,
                     center: Vec3::ZERO,
                 }),
@@ -152,6 +156,12 @@ impl Clusters {
                 Some(*count)
             }))
             .collect();
+        out.distant_before = std::iter::once(0)
+            .chain(out.faces.iter().scan(0, |count, &f| {
+                *count += u32::from(mesh.patches[mesh.nodes[f as usize].patch as usize].distant);
+                Some(*count)
+            }))
+            .collect();
         out.slot = vec![u32::MAX; faces.iter().map(|&f| f as usize + 1).max().unwrap_or(0)];
         for (k, &f) in out.faces.iter().enumerate() {
             out.slot[f as usize] = k as u32;
@@ -187,6 +197,15 @@ impl Clusters {
     pub fn reflects(&self, c: usize) -> bool {
         let range = &self.nodes[c].faces;
         self.reflecting_before[range.end as usize] > self.reflecting_before[range.start as usize]
+    }
+
+    /// Whether every face of cluster `c` is part of a distant environment.
+    #[must_use]
+    pub fn distant(&self, c: usize) -> bool {
+        let range = &self.nodes[c].faces;
+        let count =
+            self.distant_before[range.end as usize] - self.distant_before[range.start as usize];
+        count == range.end - range.start
     }
 
     /// Whether cluster `c` holds the root face `f` (a node id).
@@ -346,6 +365,8 @@ impl Clusters {
 /// The faces of one object: a range of the object-sorted face order.
 struct Group {
     object: u32,
+    /// Whether its faces are a distant environment's ([`super::distant`]).
+    distant: bool,
     faces: Range<usize>,
     center: Vec3,
 }
@@ -390,13 +411,22 @@ impl Build<'_> {
             children: None,
             plane: None,
         });
-        let axis = longest_axis(groups.iter().map(|g| g.center));
-        let mid = groups.len() / 2;
-        groups.select_nth_unstable_by(mid, |a, b| {
-            a.center[axis]
-                .total_cmp(&b.center[axis])
-                .then(a.object.cmp(&b.object))
-        });
+        let distant = groups.iter().filter(|g| g.distant).count();
+        let mid = if distant > 0 && distant < groups.len() {
+            // A distant environment apart from the rest at the top, so that every cluster
+            // below is wholly of it or wholly not ([`super::distant`]).
+            groups.sort_by_key(|g| (!g.distant, g.object));
+            distant
+        } else {
+            let axis = longest_axis(groups.iter().map(|g| g.center));
+            let mid = groups.len() / 2;
+            groups.select_nth_unstable_by(mid, |a, b| {
+                a.center[axis]
+                    .total_cmp(&b.center[axis])
+                    .then(a.object.cmp(&b.object))
+            });
+            mid
+        };
         let (left, right) = groups.split_at_mut(mid);
         let a = self.objects(out, left);
         let b = self.objects(out, right);

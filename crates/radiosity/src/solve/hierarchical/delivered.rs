@@ -27,8 +27,9 @@
 //! the surfaces the solution is about. The estimate's noise, √(1/hits), only moves the
 //! threshold, and its rays are seeded by their index, so it is the same on every run.
 
-use glam::Vec3;
 use rayon::prelude::*;
+
+use super::distant::Sides;
 
 use crate::accel::{Bvh, Ray};
 use crate::formfactor::visibility::jitter;
@@ -101,23 +102,7 @@ fn delivered(
     if faces.is_empty() || area <= 0.0 {
         return 0.0;
     }
-    // The patch a ray along `dir` sees where it hits scene polygon `polygon`: the side of that
-    // polygon facing the ray.
-    let mut sides: Vec<(u32, usize)> = mesh
-        .patches
-        .iter()
-        .enumerate()
-        .map(|(i, p)| (p.polygon, i))
-        .collect();
-    sides.sort_unstable();
-    let side = |polygon: u32, dir: Vec3| {
-        let start = sides.partition_point(|&(q, _)| q < polygon);
-        sides[start..]
-            .iter()
-            .take_while(|&&(q, _)| q == polygon)
-            .map(|&(_, p)| p)
-            .find(|&p| mesh.patches[p].normal.dot(dir) < 0.0)
-    };
+    let sides = Sides::new(mesh);
     let reads: Vec<f64> = (0..RAYS)
         .into_par_iter()
         .map(|k| {
@@ -134,7 +119,9 @@ fn delivered(
                 cosine_direction(normal, jitter(bits, 2), jitter(bits, 3)),
             );
             bvh.closest_hit(&ray, f32::INFINITY)
-                .and_then(|hit| side(mesh.triangle_polygon[hit.triangle as usize], ray.dir))
+                .and_then(|hit| {
+                    sides.facing(mesh, mesh.triangle_polygon[hit.triangle as usize], ray.dir)
+                })
                 .filter(|&p| pure(p))
                 .map_or(0.0, |p| channel(mesh.patches[p].emission.abs()))
         })

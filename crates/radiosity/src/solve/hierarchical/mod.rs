@@ -42,6 +42,7 @@
 
 pub mod cluster;
 pub mod delivered;
+pub mod distant;
 pub mod handle;
 pub mod leaf_rows;
 pub mod link;
@@ -295,6 +296,7 @@ pub fn run(
             node_probed: std::mem::take(&mut state.node_probed),
             node_open: std::mem::take(&mut state.node_open),
             node_shine: std::mem::take(&mut state.node_shine),
+            node_sky: std::mem::take(&mut state.node_sky),
             node_gain: std::mem::take(&mut state.node_gain),
             node_b: snap.node_b.clone(),
             node_h: snap.node_h.clone(),
@@ -374,13 +376,25 @@ pub fn run(
             refined += round.refined;
             peak = peak.max(memory(mesh, &clusters, links.len() + round.links.len()));
             links = round.links;
-            if round.splits.is_empty() {
+            let mut leaves = round.splits;
+            if !display {
+                // Elements that take too much of the environment's light ([`distant`]).
+                leaves.extend(distant::split_lit(
+                    mesh,
+                    &state.node_sky,
+                    threshold,
+                    min_area,
+                ));
+                leaves.sort_unstable();
+                leaves.dedup();
+            }
+            if leaves.is_empty() {
                 break;
             }
-            mesh.refine(&round.splits);
+            mesh.refine(&leaves);
             state.grow(mesh, bvh);
-            splits.extend_from_slice(&round.splits);
-            refined += round.splits.len() as u64;
+            splits.extend_from_slice(&leaves);
+            refined += leaves.len() as u64;
             if display {
                 // Forced receivers are split once; their children are judged by the oracle.
                 break;

@@ -41,6 +41,7 @@ use rayon::prelude::*;
 use glam::DVec3;
 
 use super::cluster::{axis_weights, Clusters};
+use super::distant;
 use super::leaf_rows::LeafRows;
 use super::link::{receiver_groups, resolved, End, Handle, Link};
 use crate::accel::Bvh;
@@ -73,6 +74,9 @@ pub struct State {
     pub node_open: Vec<f64>,
     /// The radiosity every mesh node shines from its open part (see [`State::pull`]).
     pub node_shine: Vec<Rgb>,
+    /// The irradiance every leaf gathers from a distant environment along rays
+    /// ([`super::distant`]); zero for interior nodes and without an environment.
+    pub node_sky: Vec<Rgb>,
     /// The factor by which every element's gathered irradiance is scaled so that its gain
     /// ρ Σ F stays below 1 ([`State::bury_rows`]); 1 for most, and for interior nodes.
     pub node_gain: Vec<f64>,
@@ -123,6 +127,16 @@ impl State {
             .filter(|&k| mesh.nodes[k as usize].children.is_none())
             .collect();
         let probed = open_fraction(mesh, bvh, &leaves);
+        let sky = distant::irradiance(mesh, bvh, &leaves);
+        self.node_sky.resize(n, Rgb::ZERO);
+        for (&k, h) in leaves.iter().zip(sky) {
+            self.node_sky[k as usize] = h;
+        }
+        for p in 0..old {
+            if mesh.nodes[p].children.is_some() {
+                self.node_sky[p] = Rgb::ZERO;
+            }
+        }
         self.node_probed.resize(n, 0.0);
         self.node_open.resize(n, 0.0);
         for (&k, u) in leaves.iter().zip(probed) {
@@ -170,6 +184,7 @@ impl State {
             node_probed: Vec::new(),
             node_open: Vec::new(),
             node_shine: vec![Rgb::ONE; n],
+            node_sky: Vec::new(),
             node_gain: Vec::new(),
             cluster_b: vec![Rgb::ONE; clusters.nodes.len()],
             cluster_n: clusters
@@ -238,6 +253,7 @@ impl State {
     pub fn iterate(&mut self, mesh: &Mesh, clusters: &Clusters, links: &[Link]) -> f64 {
         self.gather(mesh, clusters, links, None);
         self.push(mesh, clusters);
+        self.add_sky(mesh);
         // New element radiosities, in parallel (each from its own node only).
         let new: Vec<Rgb> = mesh
             .elements
@@ -257,6 +273,14 @@ impl State {
         }
         self.pull(mesh, clusters);
         change
+    }
+
+    /// Adds every element's irradiance from the distant environment to what its links
+    /// brought (after the push).
+    fn add_sky(&mut self, mesh: &Mesh) {
+        for &e in &mesh.elements {
+            self.node_h[e as usize] += self.node_sky[e as usize];
+        }
     }
 
     /// Push: clusters, then root faces, then quadtree nodes in index order.
@@ -327,6 +351,7 @@ impl State {
         }
         lit.gather(mesh, clusters, links, None);
         lit.push(mesh, clusters);
+        lit.add_sky(mesh);
         lit.element_irradiance(mesh)
     }
 
@@ -446,6 +471,7 @@ impl State {
     ) -> Vec<Rgb> {
         self.gather(mesh, clusters, links, Some(rows.links()));
         self.push(mesh, clusters);
+        self.add_sky(mesh);
         let shone: Vec<Rgb> = links
             .par_iter()
             .zip(rows.links())

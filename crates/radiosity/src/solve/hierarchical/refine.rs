@@ -320,6 +320,10 @@ impl Refiner<'_, '_> {
         if (self.stop)() {
             return;
         }
+        if self.view.distant(s) {
+            // Its light is gathered along rays ([`super::distant`]).
+            return;
+        }
         if !self.view.reflects(r) {
             // A receiver that reflects nothing (an environment's tiles): one link, by rays,
             // whatever the pair, for the power balance alone.

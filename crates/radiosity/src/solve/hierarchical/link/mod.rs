@@ -265,6 +265,16 @@ impl<'a> View<'a> {
         }
     }
 
+    /// Whether a handle is wholly part of a distant environment, whose light the elements
+    /// gather along rays ([`super::distant`]) instead of links.
+    #[must_use]
+    pub fn distant(&self, h: Handle) -> bool {
+        match h.end() {
+            End::Cluster(c) => self.clusters.distant(c),
+            End::Node(n) => self.mesh.patches[self.mesh.nodes[n].patch as usize].distant,
+        }
+    }
+
     /// The quadtree node of a handle, `None` for a cluster.
     fn node(&self, h: Handle) -> Option<&Node> {
         h.as_node().map(|n| &self.mesh.nodes[n])
