@@ -20,8 +20,8 @@ use std::fmt;
 
 use glam::Vec3;
 
-use super::description::{Field, ObjectDesc, SceneDesc, ShapeDesc};
-use super::environment::CieSkyKind;
+use super::description::{Field, ObjectDesc, SceneDesc, ShapeDesc, SkyDesc};
+use super::environment::{solar, CieSkyKind};
 use super::{grid, Loc, SceneError};
 use crate::Rgb;
 
@@ -214,22 +214,14 @@ pub fn check(desc: &SceneDesc) -> Result<(), SceneError> {
                 format!("{l} must not be negative"),
             ));
         }
-        match (&sky.sun, kind) {
-            (Some(sun), _) if sun.value.y <= 0.0 => {
-                return Err(fail(
-                    desc,
-                    sun,
-                    "the sun must be above the horizon (y > 0)".into(),
-                ));
-            }
-            (None, CieSkyKind::Type12) => {
-                return Err(fail(
-                    desc,
-                    &sky.kind,
-                    "cie-12 needs `sun`, the direction towards the sun".into(),
-                ));
-            }
-            _ => {}
+        if sun_direction(desc, sky)?.is_none() && kind == CieSkyKind::Type12 {
+            return Err(fail(
+                desc,
+                &sky.kind,
+                "cie-12 needs `sun`, the direction towards the sun, or `latitude`, \
+                 `longitude`, `date` and `time`"
+                    .into(),
+            ));
         }
     }
     let mut grids = HashSet::new();
@@ -271,6 +263,101 @@ pub fn check(desc: &SceneDesc) -> Result<(), SceneError> {
 }
 
 /// An error at `f`'s place and key.
+/// The direction towards the sun that `[sky]` declares: its `sun`, or the sun's position at
+/// its `latitude`, `longitude`, `date` and `time` (with `utc_offset` and `north`;
+/// [`solar`]); `None` when it declares neither.
+///
+/// # Errors
+/// A place and time that is incomplete, out of range or given beside `sun`, a `north` with no
+/// horizontal part, or a sun below the horizon, each located at its key.
+pub fn sun_direction(desc: &SceneDesc, sky: &SkyDesc) -> Result<Option<Vec3>, SceneError> {
+    let placed = sky.latitude.is_some()
+        || sky.longitude.is_some()
+        || sky.date.is_some()
+        || sky.time.is_some()
+        || sky.utc_offset.is_some()
+        || sky.north.is_some();
+    if !placed {
+        return match &sky.sun {
+            Some(sun) if sun.value.y <= 0.0 => Err(fail(
+                desc,
+                sun,
+                "the sun must be above the horizon (y > 0)".into(),
+            )),
+            Some(sun) => Ok(Some(sun.value.normalize())),
+            None => Ok(None),
+        };
+    }
+    if let Some(sun) = &sky.sun {
+        return Err(fail(
+            desc,
+            sun,
+            "give either `sun` or the place and time (`latitude`, `longitude`, `date`, `time`), \
+             not both"
+                .into(),
+        ));
+    }
+    let missing = |key: &str| {
+        fail(
+            desc,
+            &sky.kind,
+            format!("the sun's position needs `{key}` beside the other keys of the place and time"),
+        )
+    };
+    let number = |f: &Option<Field<f64>>, key: &str, limit: f64| match f {
+        None => Err(missing(key)),
+        Some(f) if f.value.is_nan() || f.value.abs() > limit => {
+            Err(fail(desc, f, format!("{} is not within ±{limit}", f.value)))
+        }
+        Some(f) => Ok(f.value),
+    };
+    let latitude = number(&sky.latitude, "latitude", 90.0)?;
+    let longitude = number(&sky.longitude, "longitude", 180.0)?;
+    let utc_offset = match &sky.utc_offset {
+        None => 0.0,
+        Some(_) => number(&sky.utc_offset, "utc_offset", 14.0)?,
+    };
+    let date = sky.date.as_ref().ok_or_else(|| missing("date"))?;
+    let time = sky.time.as_ref().ok_or_else(|| missing("time"))?;
+    let moment = solar::Moment {
+        latitude,
+        longitude,
+        date: solar::parse_date(&date.value).ok_or_else(|| {
+            fail(
+                desc,
+                date,
+                format!("{:?} is not a date YYYY-MM-DD", date.value),
+            )
+        })?,
+        minutes: solar::parse_time(&time.value)
+            .ok_or_else(|| fail(desc, time, format!("{:?} is not a time HH:MM", time.value)))?,
+        utc_offset,
+    };
+    let north = match &sky.north {
+        Some(n)
+            if n.value.x.hypot(n.value.z) <= f32::EPSILON * n.value.length()
+                || !n.value.is_finite() =>
+        {
+            return Err(fail(
+                desc,
+                n,
+                "north must have a horizontal part (x or z)".into(),
+            ));
+        }
+        Some(n) => n.value,
+        None => Vec3::NEG_Z,
+    };
+    let elevation = moment.elevation();
+    if elevation <= 0.0 {
+        return Err(fail(
+            desc,
+            time,
+            format!("the sun is below the horizon there and then (elevation {elevation:.1}°)"),
+        ));
+    }
+    Ok(Some(moment.direction(north)))
+}
+
 fn fail<T>(desc: &SceneDesc, f: &Field<T>, message: String) -> SceneError {
     SceneError::at(
         Loc {

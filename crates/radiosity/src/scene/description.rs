@@ -75,8 +75,22 @@ pub struct SkyDesc {
     pub kind: Field<String>,
     /// `zenith_luminance`, cd·m⁻².
     pub zenith_luminance: Field<f64>,
-    /// `sun`: the direction towards the sun (needed by `cie-12`).
+    /// `sun`: the direction towards the sun (needed by `cie-12`, unless the place and time
+    /// below are given).
     pub sun: Option<Field<Vec3>>,
+    /// `latitude`, degrees north: with `longitude`, `date` and `time`, where the sun is
+    /// ([`crate::scene::environment::solar`]).
+    pub latitude: Option<Field<f64>>,
+    /// `longitude`, degrees east.
+    pub longitude: Option<Field<f64>>,
+    /// `date`, `YYYY-MM-DD`.
+    pub date: Option<Field<String>>,
+    /// `time`, the local clock time `HH:MM`.
+    pub time: Option<Field<String>>,
+    /// `utc_offset`, hours (default 0).
+    pub utc_offset: Option<Field<f64>>,
+    /// `north`, the scene's north (default −z).
+    pub north: Option<Field<Vec3>>,
 }
 
 /// A calculation grid ([`crate::scene::grid`]).

@@ -225,7 +225,7 @@ pub fn build(desc: &SceneDesc) -> Result<Scene, SceneError> {
         let sky = CieSky {
             kind: CieSkyKind::named(&sky.kind.value).expect("checked"),
             zenith_luminance: sky.zenith_luminance.value,
-            sun_direction: sky.sun.as_ref().map_or(Vec3::Y, |s| s.value.normalize()),
+            sun_direction: super::check::sun_direction(desc, sky)?.unwrap_or(Vec3::Y),
             up: Vec3::Y,
         };
         b.scene.sky_illuminance = Some(sky.horizontal_illuminance());

@@ -22,6 +22,7 @@
 pub mod cie_sky;
 pub mod daylight;
 pub mod latlong;
+pub mod solar;
 pub mod tiles;
 
 use std::path::PathBuf;

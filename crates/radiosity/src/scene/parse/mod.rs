@@ -122,11 +122,27 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc, SceneError> {
     }
     if let Some((_, v)) = top.take("sky") {
         let mut t = Table::new(&src, "sky".into(), v)?;
-        t.check_keys(&["type", "zenith_luminance", "sun"])?;
+        t.check_keys(&[
+            "type",
+            "zenith_luminance",
+            "sun",
+            "latitude",
+            "longitude",
+            "date",
+            "time",
+            "utc_offset",
+            "north",
+        ])?;
         desc.sky = Some(SkyDesc {
             kind: t.required_with("type", |k, v| src.string(k, v))?,
             zenith_luminance: t.required_with("zenith_luminance", |k, v| src.f64(k, v))?,
             sun: t.optional("sun", |k, v| src.vec3(k, v))?,
+            latitude: t.optional("latitude", |k, v| src.f64(k, v))?,
+            longitude: t.optional("longitude", |k, v| src.f64(k, v))?,
+            date: t.optional("date", |k, v| src.string(k, v))?,
+            time: t.optional("time", |k, v| src.string(k, v))?,
+            utc_offset: t.optional("utc_offset", |k, v| src.f64(k, v))?,
+            north: t.optional("north", |k, v| src.vec3(k, v))?,
         });
     }
     if let Some((_, v)) = top.take("grids") {

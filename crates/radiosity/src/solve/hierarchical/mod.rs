@@ -12,7 +12,8 @@
 //! ```
 //!
 //! 1. **Refine** ([`refine`]): start from the root cluster linked with itself; split a link
-//!    while B_s·F_rs·A_r > ε·Φ (BF refinement; Φ the emitted power, so ε is relative), with a
+//!    while B_s·F_rs·A_r > ε·Φ (BF refinement; Φ the power the emitters deliver to what reflects,
+//!    [`delivered`], so ε is relative), with a
 //!    lower threshold on how much F varies over the receiver; split leaves of the quadtrees on demand
 //!    down to a minimum element area.
 //! 2. **Solve** ([`push_pull`]): gather along the links, push irradiance down, pull radiosity

@@ -1,7 +1,8 @@
 //! The refinement oracle and one refinement round.
 //!
 //! BF refinement (Hanrahan, Salzman & Aupperle 1991, §4): a link from source s to receiver r
-//! moves the power B_s·F_rs·A_r. If that exceeds the threshold ε·Φ (Φ the emitted power) the
+//! moves the power B_s·F_rs·A_r. If that exceeds the threshold ε·Φ (Φ the power the emitters deliver to what reflects,
+//! [`super::delivered`]) the
 //! link is too coarse: the larger of the two sides (by area) is split and the link replaced by
 //! links from or to its children, each estimated afresh, recursively. A second test bounds
 //! how much the link's factor varies over its receiver: B_s·ΔF·A_r must stay below
