@@ -1,6 +1,7 @@
 //! `--grids DIR`: the illuminance on a scene's calculation grids, written as CSV and JSON.
 
 use std::fs;
+use std::path::Path;
 
 mod common;
 
@@ -33,10 +34,10 @@ corners = [[0.0, 0.001, 0.0], [1.0, 0.001, 0.0], [0.0, 0.001, 1.0]]
 spacing = 0.5
 "#;
 
-#[test]
-fn solve_writes_each_grid_and_its_statistics() {
-    let dir = scratch("grids-solve");
-    fs::write(dir.join("room.toml"), ROOM).unwrap();
+/// Writes `scene` as `dir/room.toml`, runs `radiosity solve room.toml --grids lux --stats
+/// s.json`, asserts that it succeeds and returns `lux/grids.json`.
+fn solve_with_grids(dir: &Path, scene: &str) -> serde_json::Value {
+    fs::write(dir.join("room.toml"), scene).unwrap();
     let out = radiosity()
         .args([
             "solve",
@@ -47,7 +48,7 @@ fn solve_writes_each_grid_and_its_statistics() {
             "s.json",
             "--quiet",
         ])
-        .current_dir(&dir)
+        .current_dir(dir)
         .output()
         .unwrap();
     assert!(
@@ -55,6 +56,13 @@ fn solve_writes_each_grid_and_its_statistics() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    serde_json::from_str(&fs::read_to_string(dir.join("lux/grids.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn solve_writes_each_grid_and_its_statistics() {
+    let dir = scratch("grids-solve");
+    let json = solve_with_grids(&dir, ROOM);
     let csv = fs::read_to_string(dir.join("lux/floor.csv")).unwrap();
     let rows: Vec<&str> = csv.lines().collect();
     assert_eq!(rows[0], "x,y,z,lux");
@@ -70,8 +78,6 @@ fn solve_writes_each_grid_and_its_statistics() {
         let lux: f64 = row.rsplit(',').next().unwrap().parse().unwrap();
         assert!((lux / exact - 1.0).abs() < 2e-3, "{row}: {exact}");
     }
-    let json: serde_json::Value =
-        serde_json::from_str(&fs::read_to_string(dir.join("lux/grids.json")).unwrap()).unwrap();
     let grid = &json["grids"][0];
     assert_eq!(grid["points"], 4);
     let average = grid["average"].as_f64().unwrap();
@@ -121,19 +127,7 @@ name = "open"
 corners = [[-1.0, 0.8, -1.0], [1.0, 0.8, -1.0], [-1.0, 0.8, 1.0]]
 spacing = 1.0
 "#;
-    fs::write(dir.join("sky.toml"), scene).unwrap();
-    let out = radiosity()
-        .args(["solve", "sky.toml", "--grids", "lux", "--quiet"])
-        .current_dir(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json: serde_json::Value =
-        serde_json::from_str(&fs::read_to_string(dir.join("lux/grids.json")).unwrap()).unwrap();
+    let json = solve_with_grids(&dir, scene);
     let grid = &json["grids"][0];
     let exact = 7.0 * std::f64::consts::PI * 10000.0 / 9.0;
     for key in ["minimum", "maximum"] {
@@ -191,27 +185,7 @@ fn a_closed_room_under_the_overcast_sky_stays_dark() {
     ] {
         scene += &quad(name, v);
     }
-    fs::write(dir.join("room.toml"), scene).unwrap();
-    let out = radiosity()
-        .args([
-            "solve",
-            "room.toml",
-            "--grids",
-            "lux",
-            "--stats",
-            "s.json",
-            "--quiet",
-        ])
-        .current_dir(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json: serde_json::Value =
-        serde_json::from_str(&fs::read_to_string(dir.join("lux/grids.json")).unwrap()).unwrap();
+    let json = solve_with_grids(&dir, &scene);
     let df = json["grids"][0]["daylight_factor"]["maximum"]
         .as_f64()
         .unwrap();
