@@ -17,7 +17,6 @@ use std::io::Write;
 use anyhow::Result;
 use radiosity::mesh::{Mesh, Subdivision};
 use radiosity::photometry;
-use radiosity::Rgb;
 use radiosity::Scene;
 
 use model::brep::{closed_topology, EulerCounts};
@@ -54,7 +53,7 @@ pub fn run(args: &InfoArgs) -> Result<()> {
 fn report(scene: &Scene, mesh: &Mesh) -> String {
     let front = || mesh.patches.iter().filter(|p| !p.back);
     let area: f64 = front().map(|p| p.area).sum();
-    let emitted: Rgb = mesh.patches.iter().map(|p| p.area * p.emission).sum();
+    let emitted = mesh.emitted_power();
     let corners = || scene.polygons.iter().flat_map(|p| &p.vertices);
     let (lo, hi) = corners().fold(
         (corners().next().copied(), corners().next().copied()),

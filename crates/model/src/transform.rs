@@ -55,6 +55,12 @@ impl Transform {
         self.affine.transform_point3(p)
     }
 
+    /// Maps a direction (the linear part alone, no translation).
+    #[must_use]
+    pub fn vector(&self, v: Vec3) -> Vec3 {
+        self.affine.transform_vector3(v)
+    }
+
     /// Whether the map reverses orientation (negative determinant), so faces must be reversed to
     /// keep their fronts.
     #[must_use]

@@ -299,7 +299,7 @@ impl Solved {
     /// pipeline (`load`, `render`, `total`); the others come from the solve.
     #[must_use]
     pub fn stats(&self, timings: &Timings) -> Stats {
-        let emitted: Rgb = self.mesh.patches.iter().map(|p| p.area * p.emission).sum();
+        let emitted = self.mesh.emitted_power();
         Stats {
             patches: self.mesh.patches.len(),
             elements: self.mesh.element_count(),

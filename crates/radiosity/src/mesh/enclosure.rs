@@ -7,7 +7,8 @@
 //! outward side. Closed means every directed edge (exact corner positions) is met once in each
 //! direction, so the surface is watertight and consistently oriented; outward means its signed
 //! volume V = Σ a·(b × c)/6 over a fan of each polygon is positive (the divergence theorem over
-//! the closed surface). Emitting objects are left alone.
+//! the closed surface). Emitting objects are left alone, and so are objects whose bounds hold a
+//! point luminaire, which may light them from inside.
 //!
 //! A solid *standing on a floor* is closed by the floor. Modelling tools and hand-written OBJ
 //! files leave out the bottom of a box that stands on something (the bare OBJ room of
@@ -70,6 +71,18 @@ pub(super) fn enclosed_objects(scene: &Scene) -> Vec<bool> {
         let a = vs[0].as_dvec3();
         for w in vs[1..].windows(2) {
             volume[o] += a.dot(w[0].as_dvec3().cross(w[1].as_dvec3())) / 6.0;
+        }
+    }
+    // A point luminaire inside lights the inner sides: an object whose bounds hold one keeps
+    // them.
+    for (o, (lo, hi)) in extent.iter().enumerate() {
+        let holds = |p: DVec3| p.cmpge(*lo).all() && p.cmple(*hi).all();
+        if scene
+            .luminaires
+            .iter()
+            .any(|l| holds(l.position.as_dvec3()))
+        {
+            eligible[o] = false;
         }
     }
     let mut enclosed = vec![false; n];

@@ -85,6 +85,9 @@ pub struct Mesh {
     pub triangles: Vec<[Vec3; 3]>,
     /// Scene polygon of each triangle.
     pub triangle_polygon: Vec<u32>,
+    /// The scene's point luminaires, whose light the elements take by their first shot
+    /// ([`crate::solve::first_shot`]) and the pictures take exactly.
+    pub luminaires: Vec<crate::scene::Luminaire>,
 }
 
 impl Mesh {
@@ -104,6 +107,19 @@ impl Mesh {
             })
             .sum();
         (roots, elements)
+    }
+
+    /// The power the scene emits per channel, in scene units² × W·m⁻²: Σ A·E over the
+    /// emitting patches plus the point luminaires' flux.
+    #[must_use]
+    pub fn emitted_power(&self) -> crate::Rgb {
+        let patches: crate::Rgb = self.patches.iter().map(|p| p.area * p.emission).sum();
+        patches
+            + self
+                .luminaires
+                .iter()
+                .map(crate::scene::Luminaire::scene_power)
+                .sum::<crate::Rgb>()
     }
 
     /// Splits every polygon of `scene` into patches and subdivides them uniformly.
@@ -129,7 +145,10 @@ impl Mesh {
     ) -> Option<Self> {
         let patches = patch::patches(scene, discontinuity);
         let targets = budget::patch_targets(&patches, subdivision);
-        let mut mesh = Mesh::default();
+        let mut mesh = Mesh {
+            luminaires: scene.luminaires.clone(),
+            ..Mesh::default()
+        };
         progress.phase("subdivision", Work::of(patches.len() as u64, "patches"));
         for (index, ((patch, roots), target)) in patches.into_iter().zip(targets).enumerate() {
             let first = mesh.nodes.len() as u32;

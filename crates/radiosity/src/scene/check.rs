@@ -20,7 +20,9 @@ use std::fmt;
 
 use glam::Vec3;
 
-use super::description::{Field, ObjectDesc, SceneDesc, ShapeDesc, SkyDesc};
+use super::description::{
+    Field, LightDesc, LuminaireDesc, ObjectDesc, SceneDesc, ShapeDesc, SkyDesc, Strength,
+};
 use super::environment::{solar, CieSkyKind};
 use super::{grid, Loc, SceneError};
 use crate::Rgb;
@@ -358,6 +360,67 @@ pub fn sun_direction(desc: &SceneDesc, sky: &SkyDesc) -> Result<Option<Vec3>, Sc
     Ok(Some(moment.direction(north)))
 }
 
+/// A point luminaire's values: a direction to aim, a positive multiplier, a visible tint, a
+/// strength and a spot's angles in order.
+fn check_luminaire(desc: &SceneDesc, l: &LuminaireDesc) -> Result<(), SceneError> {
+    if !l.position.value.is_finite() {
+        return Err(fail(desc, &l.position, "position must be finite".into()));
+    }
+    if !(l.aim.value.is_finite() && l.aim.value.length() > 0.0) {
+        return Err(fail(
+            desc,
+            &l.aim,
+            "aim must be a non-zero direction".into(),
+        ));
+    }
+    if !l.rotation.value.is_finite() {
+        return Err(fail(desc, &l.rotation, "rotation must be finite".into()));
+    }
+    if !(l.multiplier.value.is_finite() && l.multiplier.value > 0.0) {
+        return Err(fail(
+            desc,
+            &l.multiplier,
+            "multiplier must be positive".into(),
+        ));
+    }
+    if let Some(c) = &l.colour {
+        check_channels(c, "colour", |x| x.is_finite() && x >= 0.0, "[0, ∞)")
+            .map_err(|m| fail(desc, c, m))?;
+        if crate::color::luminance(c.value) <= 0.0 {
+            return Err(fail(desc, c, "colour must have a luminance above 0".into()));
+        }
+    }
+    let strength = match &l.light {
+        LightDesc::File(_) => None,
+        LightDesc::Point(s) => Some(s),
+        LightDesc::Spot {
+            strength,
+            cone,
+            beam,
+        } => {
+            if !(cone.value > 0.0 && cone.value <= 180.0) {
+                return Err(fail(desc, cone, "cone must be in (0°, 180°]".into()));
+            }
+            if let Some(b) = beam {
+                if !(b.value >= 0.0 && b.value < cone.value) {
+                    return Err(fail(
+                        desc,
+                        b,
+                        format!("beam must be in [0°, cone = {}°)", cone.value),
+                    ));
+                }
+            }
+            Some(strength)
+        }
+    };
+    if let Some(Strength::Intensity(f) | Strength::Flux(f)) = strength {
+        if !(f.value.is_finite() && f.value >= 0.0) {
+            return Err(fail(desc, f, "must be a finite number ≥ 0".into()));
+        }
+    }
+    Ok(())
+}
+
 fn fail<T>(desc: &SceneDesc, f: &Field<T>, message: String) -> SceneError {
     SceneError::at(
         Loc {
@@ -409,7 +472,15 @@ fn check_object(desc: &SceneDesc, o: &ObjectDesc) -> Result<(), SceneError> {
                 ),
             ));
         }
-        None if !matches!(o.shape, ShapeDesc::Mesh { .. }) => {
+        Some(m) if matches!(o.shape, ShapeDesc::Luminaire(_)) => {
+            return Err(fail(
+                desc,
+                m,
+                "a luminaire takes no material (its light is its `file`, `intensity` or `flux`)"
+                    .into(),
+            ));
+        }
+        None if !matches!(o.shape, ShapeDesc::Mesh { .. } | ShapeDesc::Luminaire(_)) => {
             let key = format!("objects[{}].material", o.index);
             return Err(fail(
                 desc,
@@ -476,16 +547,20 @@ fn check_object(desc: &SceneDesc, o: &ObjectDesc) -> Result<(), SceneError> {
                 None => {
                     return Err(fail(desc, of, format!("no object named `{}`", of.value)));
                 }
-                Some(ShapeDesc::Instance { .. } | ShapeDesc::Mesh { .. }) => {
+                Some(
+                    ShapeDesc::Instance { .. } | ShapeDesc::Mesh { .. } | ShapeDesc::Luminaire(_),
+                ) => {
                     return Err(fail(
                         desc,
                         of,
-                        "an instance cannot reuse another instance or a mesh file".into(),
+                        "an instance cannot reuse another instance, a mesh file or a luminaire"
+                            .into(),
                     ));
                 }
                 Some(_) => {}
             }
         }
+        ShapeDesc::Luminaire(l) => check_luminaire(desc, l)?,
         ShapeDesc::BezierPatch {
             points,
             path,

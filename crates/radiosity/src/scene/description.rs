@@ -298,6 +298,53 @@ pub enum ShapeDesc {
         /// `of`: the name of the object whose shape is reused.
         of: Field<String>,
     },
+    /// `shape = "luminaire"`, `"point"` or `"spot"`: a point luminaire
+    /// ([`crate::scene::luminaire`]), no polygon.
+    Luminaire(LuminaireDesc),
+}
+
+/// A point luminaire's keys.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LuminaireDesc {
+    /// What gives its distribution of intensity.
+    pub light: LightDesc,
+    /// `position`.
+    pub position: Field<Vec3>,
+    /// `aim`: the direction of the photometric nadir (default −y).
+    pub aim: Field<Vec3>,
+    /// `rotation`: degrees about the aim (default 0).
+    pub rotation: Field<f64>,
+    /// `multiplier`: the light-loss factor (default 1).
+    pub multiplier: Field<f64>,
+    /// `colour`: a tint, scaled to luminance 1 (default white).
+    pub colour: Option<Field<Rgb>>,
+}
+
+/// Where a luminaire's distribution of intensity comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LightDesc {
+    /// `shape = "luminaire"`: `file`, an IES LM-63 or EULUMDAT file relative to the scene.
+    File(Field<PathBuf>),
+    /// `shape = "point"`: the same intensity every way.
+    Point(Strength),
+    /// `shape = "spot"`: a cone.
+    Spot {
+        /// Its intensity on the axis, or its flux.
+        strength: Strength,
+        /// `cone`: the half-angle of the edge, degrees (default 30).
+        cone: Field<f64>,
+        /// `beam`: the half-angle of the full intensity, degrees (default ¾ of the cone).
+        beam: Option<Field<f64>>,
+    },
+}
+
+/// How strong a shorthand light is: exactly one of `intensity` (cd) and `flux` (lm).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Strength {
+    /// `intensity`, cd (W/sr per channel).
+    Intensity(Field<f64>),
+    /// `flux`, lm (W per channel).
+    Flux(Field<f64>),
 }
 
 /// A built-in base mesh of a subdivision surface (`base = "…"`).

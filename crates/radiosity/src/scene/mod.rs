@@ -18,6 +18,7 @@ pub mod facing_emitters;
 pub mod frame;
 pub mod grid;
 pub mod import;
+pub mod luminaire;
 pub mod parse;
 pub mod sky;
 pub mod units;
@@ -26,6 +27,7 @@ use glam::Vec3;
 
 use crate::Rgb;
 pub use error::{Loc, SceneError};
+pub use luminaire::Luminaire;
 
 /// A loaded scene: planar polygons, each with a material and an owning object.
 #[derive(Clone, Debug, Default)]
@@ -47,6 +49,9 @@ pub struct Scene {
     pub units: units::Units,
     /// Calculation grids (`[[grids]]`), where illuminance is measured.
     pub grids: Vec<grid::Grid>,
+    /// Point luminaires (`shape = "luminaire"`, `"point"`, `"spot"`): light from a point with
+    /// a distribution of intensity, which no ray sees.
+    pub luminaires: Vec<Luminaire>,
     /// The unobstructed horizontal illuminance of the scene's CIE sky (`[sky]`), lx: what
     /// daylight factors are relative to.
     pub sky_illuminance: Option<f64>,

@@ -28,14 +28,15 @@ pub const NO_LIGHT: &str = "no material emits light; the scene will be black";
 pub const NAME: &str = "default_sky";
 
 impl Scene {
-    /// Whether any polygon's material emits light.
+    /// Whether any polygon's material emits light, or the scene has a luminaire.
     #[must_use]
     pub fn has_emitter(&self) -> bool {
-        self.polygons.iter().any(|p| {
-            self.materials
-                .get(p.material)
-                .is_some_and(Material::is_emitter)
-        })
+        !self.luminaires.is_empty()
+            || self.polygons.iter().any(|p| {
+                self.materials
+                    .get(p.material)
+                    .is_some_and(Material::is_emitter)
+            })
     }
 
     /// Encloses the scene in the default sky (module docs) if nothing in it emits light.

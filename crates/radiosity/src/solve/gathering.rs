@@ -70,8 +70,9 @@ pub(super) fn solve(job: Job, solution: &mut Solution, sweeps: Sweeps) -> Result
     progress.end(run.interrupted);
     solution.irradiance = system.irradiance(&matrix, &run.radiosity);
     // The gather is linear in B but for the buried emission it takes off every source's mean,
-    // which is the same for B and for E alone: it cancels in the difference.
-    let direct = system.irradiance(&matrix, &system.emission);
+    // which is the same for B and for E alone: it cancels in the difference, as does the
+    // luminaires' first shot.
+    let direct = system.irradiance(&matrix, &system.emitted_only());
     solution.reflected_irradiance = Some(
         solution
             .irradiance

@@ -45,6 +45,7 @@
 
 mod balance;
 pub mod checkpoint;
+pub mod first_shot;
 mod gathering;
 pub mod gauss_seidel;
 pub mod hierarchical;
@@ -356,8 +357,11 @@ pub(crate) struct System {
     area: Vec<f64>,
     /// ρ of each element.
     reflectance: Vec<Rgb>,
-    /// E of each element.
+    /// The light each element starts with: its emission E plus the first shot ρ H_ℓ of the
+    /// point luminaires ([`first_shot`]).
     emission: Vec<Rgb>,
+    /// H_ℓ of each element, the irradiance of the luminaires' first shot.
+    first_shot: Vec<Rgb>,
     /// Source (index into the sources) of each element.
     source_of: Vec<u32>,
     /// Elements of each source.
@@ -386,7 +390,13 @@ impl System {
         let n = mesh.element_count();
         let area: Vec<f64> = (0..n).map(|e| mesh.element(e).area()).collect();
         let reflectance = (0..n).map(|e| mesh.element_patch(e).reflectance).collect();
-        let emission: Vec<Rgb> = (0..n).map(|e| mesh.element_patch(e).emission).collect();
+        let first_shot = first_shot::irradiance(mesh, g.bvh, &mesh.elements);
+        let emission: Vec<Rgb> = (0..n)
+            .map(|e| {
+                let patch = mesh.element_patch(e);
+                patch.emission + patch.reflectance * first_shot[e]
+            })
+            .collect();
         let mut source_of = vec![u32::MAX; n];
         let mut source_elements = Vec::with_capacity(g.sources.len());
         for (s, &node) in g.sources.iter().enumerate() {
@@ -409,6 +419,7 @@ impl System {
             area,
             reflectance,
             emission,
+            first_shot,
             source_of,
             source_elements,
             source_area: Vec::new(),
@@ -422,19 +433,32 @@ impl System {
         Ok(system)
     }
 
-    /// H_e = Σ_s F_es B̄_s for every element, with the source means of `b`: the light each
-    /// element gathers from the solution `b` through the matrix the solve used.
+    /// H_e = H_ℓ,e + Σ_s F_es B̄_s for every element, with the source means of `b`: the light
+    /// each element takes from the luminaires' first shot and gathers from the solution `b`
+    /// through the matrix the solve used.
     fn irradiance(&self, matrix: &matrix::Matrix, b: &[Rgb]) -> Vec<Rgb> {
         let mut shine = Shine::default();
         self.shine(b, &mut shine);
         (0..b.len())
-            .map(|e| self.gather(matrix, e, &shine))
+            .map(|e| self.first_shot[e] + self.gather(matrix, e, &shine))
             .collect()
     }
 
-    /// The open area and hidden emission of every source, from the elements' exposure.
+    /// The emission E of each element alone, without the luminaires' first shot.
+    fn emitted_only(&self) -> Vec<Rgb> {
+        self.emission
+            .iter()
+            .zip(&self.reflectance)
+            .zip(&self.first_shot)
+            .map(|((&e, &rho), &h)| e - rho * h)
+            .collect()
+    }
+
+    /// The open area and hidden emission of every source, from the elements' exposure (the
+    /// buried parts emit, but the luminaires do not reach them).
     fn weigh_sources(&mut self) {
-        let (area, exposure, emission) = (&self.area, &self.exposure, &self.emission);
+        let emission = self.emitted_only();
+        let (area, exposure, emission) = (&self.area, &self.exposure, &emission);
         let hidden = |e: usize| emission[e] * (area[e] * (1.0 - exposure[e]));
         self.source_area = self
             .source_elements

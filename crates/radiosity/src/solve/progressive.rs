@@ -132,7 +132,7 @@ pub(super) fn run(
             it.links,
         ),
         None => {
-            let h = vec![Rgb::ZERO; n];
+            let h = system.first_shot.clone();
             let e = system.emission.clone();
             (e.clone(), h, e, 0, 0u64)
         }

@@ -57,7 +57,9 @@ impl Luminaires {
         Self { list }
     }
 
-    /// The direct irradiance E_d at `point` (unit normal `normal`): see the module docs.
+    /// The direct irradiance E_d at `point` (unit normal `normal`): see the module docs; the
+    /// point luminaires' light is added exactly, with one shadow ray each
+    /// ([`World::point_lights`]).
     /// Each luminaire's visibility is first sampled by an n × n grid (n² = `samples`) and by
     /// rays to its corners; where they disagree (a penumbra) it is sampled again by a grid
     /// `refine` times finer on each side ([`PENUMBRA_REFINE`] for what the eye sees, so that
@@ -86,7 +88,7 @@ impl Luminaires {
             }
             sum += l.exitance * (f * seen);
         }
-        sum
+        sum + world.point_lights(point, normal, true, &|_| Rgb::ONE)
     }
 }
 

@@ -379,8 +379,9 @@ impl<'a> World<'a> {
         sampler: &mut Sampler,
         brdf: impl Fn(Vec3) -> Rgb,
     ) -> Rgb {
+        let points = self.point_lights(point, normal, shadows, &brdf);
         let Some(&total) = self.emitter_cdf.last() else {
-            return Rgb::ZERO;
+            return points;
         };
         let n = samples.max(1);
         let origin = point + normal * self.eps;
@@ -410,7 +411,29 @@ impl<'a> World<'a> {
             let g = f64::from(cos_x) * f64::from(cos_y) / f64::from(r2);
             sum += brdf(dir) * emitter.radiance * g;
         }
-        sum * (total / f64::from(n))
+        points + sum * (total / f64::from(n))
+    }
+
+    /// Σ over the point luminaires ([`crate::scene::luminaire`]) of `brdf(ω) · I(ω) cos θ / r²`:
+    /// their light reflected at `point` (unit normal `normal`) toward the viewer, exact but for
+    /// the shadow (one ray each, when `shadows`): a point casts hard shadows.
+    pub fn point_lights(
+        &self,
+        point: Vec3,
+        normal: Vec3,
+        shadows: bool,
+        brdf: &impl Fn(Vec3) -> Rgb,
+    ) -> Rgb {
+        let origin = point + normal * self.eps;
+        let mut sum = Rgb::ZERO;
+        for l in &self.mesh.luminaires {
+            let e = l.irradiance(point, normal);
+            if e == Rgb::ZERO || (shadows && self.occluded(origin, l.position)) {
+                continue;
+            }
+            sum += brdf((l.position - point).normalize()) * e;
+        }
+        sum
     }
 
     /// Total emitting area.

@@ -30,6 +30,7 @@ use super::{Loc, RenderDefaults, SceneError};
 use crate::scene::import::gltf_file;
 use crate::scene::import::obj::{self, ObjFile};
 
+mod luminaire;
 mod mitsuba;
 mod shapes;
 use shapes::{modeled_mesh, solid_mesh};
@@ -275,6 +276,11 @@ fn build_object(b: &mut Builder, desc: &SceneDesc, o: &ObjectDesc) -> Result<(),
                     .push(format!("{label}: the solid is not closed ({e})"));
             }
             b.add_mesh(mesh, &transform, m, object, &label);
+        }
+        ShapeDesc::Luminaire(l) => {
+            let metres = desc.units.as_ref().map_or(1.0, |u| u.value.metres());
+            let lum = luminaire::build(desc, &o.name(), l, &transform, metres)?;
+            b.scene.luminaires.push(lum);
         }
         ShapeDesc::Instance { of } => {
             let mesh = b.prototype(desc, &of.value)?;

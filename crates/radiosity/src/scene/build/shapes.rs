@@ -259,7 +259,8 @@ pub(super) fn modeled_mesh(
         | ShapeDesc::Mesh { .. }
         | ShapeDesc::Implicit { .. }
         | ShapeDesc::Csg { .. }
-        | ShapeDesc::Instance { .. } => PolyMesh::default(),
+        | ShapeDesc::Instance { .. }
+        | ShapeDesc::Luminaire(_) => PolyMesh::default(),
     })
 }
 
@@ -306,7 +307,9 @@ pub(super) fn solid_mesh(
             }
             result.unwrap_or_default()
         }
-        ShapeDesc::Mesh { .. } | ShapeDesc::Instance { .. } => PolyMesh::default(),
+        ShapeDesc::Mesh { .. } | ShapeDesc::Instance { .. } | ShapeDesc::Luminaire(_) => {
+            PolyMesh::default()
+        }
         shape @ (ShapeDesc::BezierPatch { .. }
         | ShapeDesc::NurbsSurface { .. }
         | ShapeDesc::Revolve { .. }

@@ -11,8 +11,13 @@ use super::sdf::parse_sdf;
 use super::table::Table;
 use super::transform::take_transform;
 use super::{DEFAULT_IMPLICIT_RESOLUTION, DEFAULT_SPHERE_SUBDIVISIONS, DEFAULT_SUBDIVISION_LEVELS};
-use crate::scene::description::{BaseMesh, ObjectDesc, OperandDesc, ShapeDesc};
+use crate::scene::description::{
+    BaseMesh, LightDesc, LuminaireDesc, ObjectDesc, OperandDesc, ShapeDesc, Strength,
+};
 use crate::scene::SceneError;
+
+/// A spot's default cone half-angle, degrees.
+const DEFAULT_SPOT_CONE: f64 = 30.0;
 
 /// The keys every object may have, whatever its shape.
 const OBJECT_KEYS: &[&str] = &["name", "material", "shape", "transform"];
@@ -57,6 +62,35 @@ const SHAPES: &[(&str, &[&str])] = &[
     ("implicit", &["sdf", "resolution"]),
     ("csg", &["op", "operands"]),
     ("instance", &["of"]),
+    (
+        "luminaire",
+        &[
+            "file",
+            "position",
+            "aim",
+            "rotation",
+            "multiplier",
+            "colour",
+        ],
+    ),
+    (
+        "point",
+        &["position", "intensity", "flux", "multiplier", "colour"],
+    ),
+    (
+        "spot",
+        &[
+            "position",
+            "aim",
+            "rotation",
+            "intensity",
+            "flux",
+            "cone",
+            "beam",
+            "multiplier",
+            "colour",
+        ],
+    ),
 ];
 
 /// One `[[objects]]` entry: the common keys, then the shape's own.
@@ -210,6 +244,7 @@ fn parse_shape(kind: &str, t: &mut Table<'_>) -> Result<ShapeDesc, SceneError> {
         "mesh" => ShapeDesc::Mesh {
             path: t.required_with("path", |k, v| Ok(src.string(k, v)?.map(PathBuf::from)))?,
         },
+        "luminaire" | "point" | "spot" => ShapeDesc::Luminaire(parse_luminaire(kind, t)?),
         // Every name of SHAPES has its arm above; `allowed_keys` let no other through.
         other => {
             return Err(SceneError::at(
@@ -218,6 +253,47 @@ fn parse_shape(kind: &str, t: &mut Table<'_>) -> Result<ShapeDesc, SceneError> {
             ))
         }
     })
+}
+
+/// The keys of a point luminaire of shape `kind` (`luminaire`, `point` or `spot`).
+fn parse_luminaire(kind: &str, t: &mut Table<'_>) -> Result<LuminaireDesc, SceneError> {
+    let src = t.src;
+    let light = match kind {
+        "point" => LightDesc::Point(strength(kind, t)?),
+        "spot" => LightDesc::Spot {
+            strength: strength(kind, t)?,
+            cone: t.optional_with("cone", DEFAULT_SPOT_CONE, |k, v| src.f64(k, v))?,
+            beam: t.optional("beam", |k, v| src.f64(k, v))?,
+        },
+        _ => LightDesc::File(
+            t.required_with("file", |k, v| Ok(src.string(k, v)?.map(PathBuf::from)))?,
+        ),
+    };
+    Ok(LuminaireDesc {
+        light,
+        position: t.required_with("position", |k, v| src.vec3(k, v))?,
+        aim: t.optional_with("aim", Vec3::NEG_Y, |k, v| src.vec3(k, v))?,
+        rotation: t.optional_with("rotation", 0.0, |k, v| src.f64(k, v))?,
+        multiplier: t.optional_with("multiplier", 1.0, |k, v| src.f64(k, v))?,
+        colour: t.optional("colour", |k, v| src.rgb(k, v))?,
+    })
+}
+
+/// A shorthand light's strength: exactly one of `intensity` and `flux`.
+fn strength(kind: &str, t: &mut Table<'_>) -> Result<Strength, SceneError> {
+    let src = t.src;
+    let intensity = t.optional("intensity", |k, v| src.f64(k, v))?;
+    let flux = t.optional("flux", |k, v| src.f64(k, v))?;
+    match (intensity, flux) {
+        (Some(i), None) => Ok(Strength::Intensity(i)),
+        (None, Some(f)) => Ok(Strength::Flux(f)),
+        (Some(i), Some(_)) => Err(src.error_at(&i, "give `intensity` or `flux`, not both")),
+        (None, None) => Err(src.error(
+            &t.span,
+            &t.child_path("intensity"),
+            format!("a {kind} light needs `intensity` (cd) or `flux` (lm)"),
+        )),
+    }
 }
 
 /// One `csg` operand: a `shape` with its keys and an optional `transform`.

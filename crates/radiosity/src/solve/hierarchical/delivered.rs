@@ -24,7 +24,8 @@
 //!
 //! (cosine sampling has density cos θ / π, and M = π L_e for a diffuse emitter). Emitters that
 //! also reflect (a lamp's diffuser) keep their whole emitted power, as before: they are among
-//! the surfaces the solution is about. The estimate's noise, √(1/hits), only moves the
+//! the surfaces the solution is about, and so do the point luminaires, whose whole flux is shot to
+//! the surfaces ([`crate::solve::first_shot`]). The estimate's noise, √(1/hits), only moves the
 //! threshold, and its rays are seeded by their index, so it is the same on every run.
 
 use rayon::prelude::*;
@@ -63,6 +64,9 @@ pub fn reference_power(mesh: &Mesh, bvh: &Bvh, channel: fn(Rgb) -> f64) -> f64 {
             reflecting_emitters += power;
         }
     }
+    let luminaires = luminaire_power(mesh, channel);
+    reflecting_emitters += luminaires;
+    emitted += luminaires;
     if reflecting_emitters == emitted {
         return emitted;
     }
@@ -73,6 +77,17 @@ pub fn reference_power(mesh: &Mesh, bvh: &Bvh, channel: fn(Rgb) -> f64) -> f64 {
     } else {
         emitted
     }
+}
+
+/// The power the point luminaires emit (their flux in the scene's power units), each reduced
+/// by `channel`: all of it counts, as their light is shot to the surfaces that reflect it
+/// ([`crate::solve::first_shot`]).
+#[must_use]
+pub fn luminaire_power(mesh: &Mesh, channel: fn(Rgb) -> f64) -> f64 {
+    mesh.luminaires
+        .iter()
+        .map(|l| channel(l.scene_power()))
+        .sum()
 }
 
 /// Φ_delivered of the module docs: the power that emitters for which `pure` holds send to the

@@ -245,7 +245,7 @@ pub fn run(
             })
             .sum()
     };
-    let emitted = power(Rgb::element_sum);
+    let emitted = power(Rgb::element_sum) + delivered::luminaire_power(mesh, Rgb::element_sum);
     let reference = delivered::reference_power(mesh, bvh, Rgb::element_sum);
     let peak_power = delivered::reference_power(mesh, bvh, Rgb::max_element);
     let mut out = Outcome {
@@ -379,7 +379,8 @@ pub fn run(
             links = round.links;
             let mut leaves = round.splits;
             if !display {
-                // Elements that take too much of the environment's light ([`distant`]).
+                // Elements that take too much of the environment's or the luminaires' light
+                // ([`distant`], [`crate::solve::first_shot`]).
                 leaves.extend(distant::split_lit(
                     mesh,
                     &state.node_sky,

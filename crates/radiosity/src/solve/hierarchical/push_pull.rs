@@ -47,6 +47,7 @@ use super::link::{receiver_groups, resolved, End, Handle, Link};
 use crate::accel::Bvh;
 use crate::formfactor::exposure::open_fraction;
 use crate::mesh::Mesh;
+use crate::solve::first_shot;
 use crate::Rgb;
 
 /// The largest gain ρ Σ F an element may have ([`State::bury_rows`]): below 1, so that no
@@ -74,8 +75,9 @@ pub struct State {
     pub node_open: Vec<f64>,
     /// The radiosity every mesh node shines from its open part (see [`State::pull`]).
     pub node_shine: Vec<Rgb>,
-    /// The irradiance every leaf gathers from a distant environment along rays
-    /// ([`super::distant`]); zero for interior nodes and without an environment.
+    /// The irradiance every leaf takes along rays, from a distant environment
+    /// ([`super::distant`]) and the point luminaires ([`crate::solve::first_shot`]); zero for
+    /// interior nodes and without either.
     pub node_sky: Vec<Rgb>,
     /// The factor by which every element's gathered irradiance is scaled so that its gain
     /// ρ Σ F stays below 1 ([`State::bury_rows`]); 1 for most, and for interior nodes.
@@ -103,9 +105,11 @@ impl State {
             ..State::default()
         };
         s.grow(mesh, bvh);
+        // B starts as E plus the light taken along rays (the first shot): the first pass's
+        // links then start from every surface the luminaires or the sky light.
         for &n in &mesh.elements {
-            let node = &mesh.nodes[n as usize];
-            s.node_b[n as usize] = mesh.patches[node.patch as usize].emission;
+            let patch = &mesh.patches[mesh.nodes[n as usize].patch as usize];
+            s.node_b[n as usize] = patch.emission + patch.reflectance * s.node_sky[n as usize];
         }
         s.pull(mesh, clusters);
         s
@@ -128,9 +132,10 @@ impl State {
             .collect();
         let probed = open_fraction(mesh, bvh, &leaves);
         let sky = distant::irradiance(mesh, bvh, &leaves);
+        let shot = first_shot::irradiance(mesh, bvh, &leaves);
         self.node_sky.resize(n, Rgb::ZERO);
-        for (&k, h) in leaves.iter().zip(sky) {
-            self.node_sky[k as usize] = h;
+        for ((&k, h), l) in leaves.iter().zip(sky).zip(shot) {
+            self.node_sky[k as usize] = h + l;
         }
         for p in 0..old {
             if mesh.nodes[p].children.is_some() {

@@ -1,0 +1,86 @@
+//! A point luminaire's object into a [`Luminaire`]: its distribution from its photometric file
+//! or its shorthand, placed by the object's transform.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use model::Transform;
+
+use super::super::description::{Field, LightDesc, LuminaireDesc, SceneDesc, Strength};
+use super::super::luminaire::{isotropic, spot, Luminaire};
+use super::super::{Loc, SceneError};
+use crate::color::luminance;
+use crate::photometry;
+use crate::Rgb;
+
+/// The luminaire `name` of the checked keys `l`, its position and aim mapped by `transform`;
+/// `metres` is the scene's length unit.
+///
+/// # Errors
+/// The photometric file cannot be read or is malformed: the message names the scene's key
+/// and the file's line.
+pub(super) fn build(
+    desc: &SceneDesc,
+    name: &str,
+    l: &LuminaireDesc,
+    transform: &Transform,
+    metres: f64,
+) -> Result<Luminaire, SceneError> {
+    let distribution = match &l.light {
+        LightDesc::File(path) => read(desc, path)?,
+        LightDesc::Point(strength) => {
+            // Φ = 4π I.
+            isotropic(candela(strength, 4.0 * std::f64::consts::PI))
+        }
+        LightDesc::Spot {
+            strength,
+            cone,
+            beam,
+        } => {
+            let beam = beam.as_ref().map_or(0.75 * cone.value, |b| b.value);
+            let unit = spot(1.0, beam, cone.value);
+            spot(candela(strength, unit.flux()), beam, cone.value)
+        }
+    };
+    let tint = l
+        .colour
+        .as_ref()
+        .map_or(Rgb::ONE, |c| c.value / luminance(c.value));
+    Ok(Luminaire::new(
+        name,
+        transform.point(l.position.value),
+        transform.vector(l.aim.value),
+        l.rotation.value,
+        Arc::new(distribution),
+        tint * l.multiplier.value,
+        metres,
+    ))
+}
+
+/// The intensity of a shorthand light, cd: as given, or its flux over `flux_per_candela`.
+fn candela(strength: &Strength, flux_per_candela: f64) -> f64 {
+    match strength {
+        Strength::Intensity(i) => i.value,
+        Strength::Flux(f) => f.value / flux_per_candela,
+    }
+}
+
+/// The distribution of the photometric file at `path` (relative to the scene file).
+fn read(
+    desc: &SceneDesc,
+    path: &Field<std::path::PathBuf>,
+) -> Result<photometry::Distribution, SceneError> {
+    let full = desc
+        .file
+        .parent()
+        .unwrap_or(Path::new(""))
+        .join(&path.value);
+    let at = Loc {
+        file: desc.file.clone(),
+        line: path.pos.line,
+        col: path.pos.col,
+    };
+    photometry::read(&full)
+        .map(|f| f.distribution)
+        .map_err(|e| SceneError::at(at, e.to_string()).with_key(path.key.clone()))
+}

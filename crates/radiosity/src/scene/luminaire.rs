@@ -1,0 +1,266 @@
+//! Luminaires: light that leaves a point with a measured distribution of intensity.
+//!
+//! A luminaire far from what it lights (a few times its own size away, the photometric
+//! distance of CIE 121) acts as a point source of luminous intensity I(ω), candela = lm/sr,
+//! which falls on a surface at distance r, seen under the angle θ from its normal, as
+//!
+//! ```text
+//! E = I(ω) · cos θ / r²            (the inverse-square and cosine laws)
+//! ```
+//!
+//! I(ω) is the table of a photometric file ([`crate::photometry::Distribution`], IES LM-63 or
+//! EULUMDAT) in the luminaire's own frame: −Z the nadir (the scene's `aim`), +X the C0 plane,
+//! +Y the C90 plane. The shorthand `point` and `spot` lights are distributions too, written
+//! here: a point light I(ω) = I₀ in every direction, a spot I₀ inside its beam, falling to 0 at
+//! its cone's edge as the square of a linear ramp in cos γ (the attenuation glTF's
+//! `KHR_lights_punctual` specifies).
+//!
+//! A white luminaire's candela fill the three channels, so its radiometric numbers read
+//! directly as photometric ones (cd, lm, lx); a colour tints the channels at a luminance of 1.
+//! The distances of the inverse-square law are in metres, whatever the scene's length unit.
+
+use std::sync::Arc;
+
+use glam::{DVec3, Vec3};
+
+use crate::photometry::{Distribution, Symmetry};
+use crate::Rgb;
+
+/// Steps of the γ table of a spot's falloff, between its beam and its cone.
+const SPOT_STEPS: usize = 64;
+
+/// A point luminaire placed in the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Luminaire {
+    /// The object's name.
+    pub name: String,
+    /// Where the light leaves, scene units.
+    pub position: Vec3,
+    /// The luminaire frame in scene axes: the C0 axis (+X), the C90 axis (+Y) and the zenith
+    /// (+Z, opposite the aim).
+    axes: [DVec3; 3],
+    /// I(C, γ) of a white luminaire, cd.
+    distribution: Arc<Distribution>,
+    /// The colour tint (luminance 1) times the light-loss multiplier, per channel.
+    tint: Rgb,
+    /// 1 / (metres per scene unit)²: turns 1/r² in scene units into 1/r² in metres.
+    per_square_unit: f64,
+}
+
+impl Luminaire {
+    /// A luminaire of distribution `distribution` at `position`, its nadir along `aim` and its
+    /// C0 plane turned `rotation` degrees about it (counter-clockwise seen from above, against
+    /// the aim) from the plane that holds the scene's +X (+Z when the aim is along X); `tint`
+    /// scales the channels; `metres` is the scene's length unit in metres.
+    #[must_use]
+    pub fn new(
+        name: &str,
+        position: Vec3,
+        aim: Vec3,
+        rotation: f64,
+        distribution: Arc<Distribution>,
+        tint: Rgb,
+        metres: f64,
+    ) -> Self {
+        let zenith = -aim.as_dvec3().normalize();
+        let reference = if zenith.x.abs() > 0.9 {
+            DVec3::Z
+        } else {
+            DVec3::X
+        };
+        let c0 = (reference - zenith * reference.dot(zenith)).normalize();
+        let c90 = zenith.cross(c0);
+        let (s, c) = rotation.to_radians().sin_cos();
+        let x = c0 * c + c90 * s;
+        let y = zenith.cross(x);
+        Self {
+            name: name.to_string(),
+            position,
+            axes: [x, y, zenith],
+            distribution,
+            tint,
+            per_square_unit: 1.0 / (metres * metres),
+        }
+    }
+
+    /// The intensity towards the direction `dir` (scene axes, from the luminaire; need not be
+    /// normalized), per channel.
+    #[must_use]
+    pub fn intensity(&self, dir: Vec3) -> Rgb {
+        let d = dir.as_dvec3();
+        let local = DVec3::new(
+            self.axes[0].dot(d),
+            self.axes[1].dot(d),
+            self.axes[2].dot(d),
+        );
+        self.tint * self.distribution.intensity(local)
+    }
+
+    /// The irradiance it sends to a surface at `point` of unit normal `normal`, shadows
+    /// aside: I(ω) cos θ / r², r in metres; zero behind the surface.
+    #[must_use]
+    pub fn irradiance(&self, point: Vec3, normal: Vec3) -> Rgb {
+        let w = self.position - point;
+        let r2 = f64::from(w.length_squared());
+        let cos = f64::from(normal.dot(w)) / r2.sqrt();
+        if !(r2 > 0.0 && cos > 0.0) {
+            return Rgb::ZERO;
+        }
+        self.intensity(-w) * (cos / r2 * self.per_square_unit)
+    }
+
+    /// The luminous (or radiant) flux it emits, Φ = ∫ I dΩ, per channel: lm for a white
+    /// luminaire.
+    #[must_use]
+    pub fn flux(&self) -> Rgb {
+        self.tint * self.distribution.flux()
+    }
+
+    /// The flux in the scene's power units (Φ over the square of metres per unit), which
+    /// the radiosity's Σ A·B is measured in.
+    #[must_use]
+    pub fn scene_power(&self) -> Rgb {
+        self.flux() * self.per_square_unit
+    }
+}
+
+/// The distribution of a point light of intensity `candela` in every direction.
+///
+/// # Panics
+/// Never for a finite, non-negative intensity (checked when the scene is).
+#[must_use]
+pub fn isotropic(candela: f64) -> Distribution {
+    Distribution::new(
+        Symmetry::Rotational,
+        &[0.0],
+        &[0.0, 180.0],
+        vec![candela; 2],
+    )
+    .expect("a finite, non-negative intensity")
+}
+
+/// The distribution of a spot of intensity `candela` on its axis, full out to the half-angle
+/// `beam` and falling to 0 at the half-angle `cone` (degrees, 0 ≤ beam < cone ≤ 180) as the
+/// square of the linear ramp in cos γ between them.
+///
+/// # Panics
+/// Never for a finite, non-negative intensity and angles in order (checked when the scene
+/// is).
+#[must_use]
+pub fn spot(candela: f64, beam: f64, cone: f64) -> Distribution {
+    let (cos_beam, cos_cone) = (beam.to_radians().cos(), cone.to_radians().cos());
+    let mut gamma = vec![0.0];
+    gamma.extend((0..=SPOT_STEPS).map(|k| beam + (cone - beam) * k as f64 / SPOT_STEPS as f64));
+    if cone < 180.0 {
+        gamma.push(180.0);
+    }
+    gamma.dedup();
+    let values = gamma
+        .iter()
+        .map(|&g: &f64| {
+            let ramp = (g.to_radians().cos() - cos_cone) / (cos_beam - cos_cone);
+            candela * ramp.clamp(0.0, 1.0).powi(2)
+        })
+        .collect();
+    Distribution::new(Symmetry::Rotational, &[0.0], &gamma, values)
+        .expect("a finite, non-negative intensity and rising angles")
+}
+
+#[cfg(test)]
+mod tests {
+    use std::f64::consts::PI;
+
+    use super::*;
+
+    fn lamp(distribution: Distribution, aim: Vec3, metres: f64) -> Luminaire {
+        Luminaire::new(
+            "lamp",
+            Vec3::new(0.0, 2.0, 0.0),
+            aim,
+            0.0,
+            Arc::new(distribution),
+            Rgb::ONE,
+            metres,
+        )
+    }
+
+    #[test]
+    fn a_point_light_follows_the_inverse_square_and_cosine_laws() {
+        let l = lamp(isotropic(100.0), Vec3::NEG_Y, 1.0);
+        // Straight below at 2 m: 100 / 4 = 25 lx.
+        let below = l.irradiance(Vec3::ZERO, Vec3::Y);
+        assert!(
+            (below - Rgb::splat(25.0)).abs().max_element() < 1e-9,
+            "{below}"
+        );
+        // 2 m aside: r² = 8, cos θ = 2/√8.
+        let aside = l.irradiance(Vec3::new(2.0, 0.0, 0.0), Vec3::Y).x;
+        assert!(
+            (aside - 100.0 / 8.0 * (2.0 / 8f64.sqrt())).abs() < 1e-9,
+            "{aside}"
+        );
+        // Behind the surface: nothing.
+        assert_eq!(l.irradiance(Vec3::ZERO, Vec3::NEG_Y), Rgb::ZERO);
+        // Φ = 4π I.
+        assert!((l.flux().y - 400.0 * PI).abs() < 1e-9);
+        // In millimetres the same lamp 2 mm up gives 10⁶ times as much.
+        let mm = lamp(isotropic(100.0), Vec3::NEG_Y, 1e-3);
+        assert!((mm.irradiance(Vec3::ZERO, Vec3::Y).x / 25e6 - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_spot_lights_its_cone_only_and_its_flux_is_the_closed_form() {
+        let l = lamp(spot(1000.0, 20.0, 30.0), Vec3::NEG_Y, 1.0);
+        let at = |deg: f64| {
+            l.intensity(Vec3::new(
+                deg.to_radians().sin() as f32,
+                -(deg.to_radians().cos() as f32),
+                0.0,
+            ))
+            .x
+        };
+        assert!((at(0.0) - 1000.0).abs() < 1e-9);
+        assert!((at(19.0) - 1000.0).abs() < 1e-6);
+        assert!(at(31.0) == 0.0 && at(90.0) == 0.0);
+        let mid = at(25.0);
+        let ramp = (25f64.to_radians().cos() - 30f64.to_radians().cos())
+            / (20f64.to_radians().cos() - 30f64.to_radians().cos());
+        assert!((mid / (1000.0 * ramp * ramp) - 1.0).abs() < 2e-3, "{mid}");
+        // Φ = 2π I₀ [(1 − cos β) + ∫ ramp² d(cos γ)], the ramp's integral (cos β − cos κ) / 3.
+        let (cb, ck) = (20f64.to_radians().cos(), 30f64.to_radians().cos());
+        let exact = 2.0 * PI * 1000.0 * ((1.0 - cb) + (cb - ck) / 3.0);
+        assert!(
+            (l.flux().x / exact - 1.0).abs() < 2e-3,
+            "{} {exact}",
+            l.flux().x
+        );
+    }
+
+    #[test]
+    fn the_frame_follows_the_aim_and_the_rotation() {
+        // A table lit only in the C0 half-space (I = 100 at C 0°, 0 at C 180°), aimed down:
+        // the C0 plane holds +X, so a point below and to +X is lit, one to −X is not.
+        let d = Distribution::new(
+            Symmetry::None,
+            &[0.0, 90.0, 180.0, 270.0],
+            &[0.0, 90.0],
+            vec![100.0, 100.0, 50.0, 50.0, 0.0, 0.0, 50.0, 50.0],
+        )
+        .unwrap();
+        let l = lamp(d.clone(), Vec3::NEG_Y, 1.0);
+        assert!(l.irradiance(Vec3::new(1.0, 0.0, 0.0), Vec3::Y).x > 10.0);
+        assert!(l.irradiance(Vec3::new(-1.0, 0.0, 0.0), Vec3::Y).x < 1e-9);
+        // Turned 180° about the aim, the other way round.
+        let turned = Luminaire::new(
+            "lamp",
+            Vec3::new(0.0, 2.0, 0.0),
+            Vec3::NEG_Y,
+            180.0,
+            Arc::new(d),
+            Rgb::ONE,
+            1.0,
+        );
+        assert!(turned.irradiance(Vec3::new(1.0, 0.0, 0.0), Vec3::Y).x < 1e-9);
+        assert!(turned.irradiance(Vec3::new(-1.0, 0.0, 0.0), Vec3::Y).x > 10.0);
+    }
+}
