@@ -3,8 +3,9 @@
 //! A photometric file (`.ies`, `.ldt`) is reported instead by [`crate::photometric`].
 //!
 //! Counts (objects, materials, polygons, patches — one per lit side — and the elements the
-//! subdivision would make), the surface area, the emitted power Φ = Σ A·π·L_e per channel
-//! (W when lengths are metres), the bounding box, the cameras, and the warnings of loading.
+//! subdivision would make), the surface area, the emitted power Φ = Σ A·π·L_e per channel plus
+//! the luminaires' flux (in W, the scene's length unit applied, and in lm: its luminance), the
+//! bounding box, the cameras, and the warnings of loading.
 //!
 //! For every object whose polygons form a closed, oriented mesh (corners at equal positions
 //! merged), the Euler–Poincaré counts V − E + F = 2 (S − H) and the genus H
@@ -80,13 +81,20 @@ fn report(scene: &Scene, mesh: &Mesh) -> String {
     );
     line("elements", mesh.element_count().to_string());
     line("area", format!("{area:.6} units²"));
+    let m2 = scene.units.metres().powi(2);
     line(
         "emitted",
         format!(
-            "{:.6} {:.6} {:.6} W (per channel)",
-            emitted.x, emitted.y, emitted.z
+            "{:.6} {:.6} {:.6} W (per channel), {:.6} lm",
+            emitted.x * m2,
+            emitted.y * m2,
+            emitted.z * m2,
+            radiosity::color::luminance(emitted * m2)
         ),
     );
+    if !scene.luminaires.is_empty() {
+        line("luminaires", scene.luminaires.len().to_string());
+    }
     if let (Some(lo), Some(hi)) = (lo, hi) {
         line(
             "bounds",
@@ -171,7 +179,8 @@ mod tests {
                 f64::from(a.length()) / 2.0 * scene.materials[p.material].emission.x
             })
             .sum::<f64>()
-            * std::f64::consts::PI;
+            * std::f64::consts::PI
+            * scene.units.metres().powi(2);
         let emitted: f64 = r
             .lines()
             .find(|l| l.starts_with("emitted"))

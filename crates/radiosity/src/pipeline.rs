@@ -317,10 +317,7 @@ impl Solved {
                 display: self.timings.display,
                 ..*timings
             },
-            energy: Energy {
-                emitted: emitted.to_array(),
-                absorbed: self.absorbed.to_array(),
-            },
+            energy: Energy::new(emitted, self.absorbed, self.scene.units.metres()),
             objects: self.aggregate(
                 |polygon| self.scene.polygons[polygon].object,
                 |o| self.scene.objects[o].name.clone(),

@@ -5,7 +5,9 @@
 //!   "solver": { "method": "gauss-seidel", "iterations": 12, "residual": 8e-5 },
 //!   "timings": { "load": 0.001, "mesh": 0.01, "form_factors": 1.2, "solve": 0.1,
 //!                "render": 0.2, "total": 1.5 },
-//!   "energy": { "emitted": [r, g, b], "absorbed": [r, g, b] },
+//!   "energy": { "emitted": [r, g, b], "absorbed": [r, g, b],
+//!               "emitted_w": [r, g, b], "absorbed_w": [r, g, b],
+//!               "emitted_lm": 3141.6, "absorbed_lm": 3141.0 },
 //!   "objects": [ { "name": "floor", "area": 309.4e3, "radiosity": [r, g, b] },
 //!                { "name": "sheet", "area": 1.0, "radiosity": [..], "front": [..], "back": [..] } ],
 //!   "materials": [ { "name": "white", "area": ..., "radiosity": [r, g, b] } ],
@@ -103,10 +105,36 @@ fn no_time(seconds: &f64) -> bool {
 /// Emitted and absorbed power per channel.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Energy {
-    /// Σ A·E over emitting patches.
+    /// Σ A·E over emitting patches plus the point luminaires' flux, in scene units² × W·m⁻².
     pub emitted: [f64; 3],
-    /// Σ A·(1 − ρ)·H, the power absorbed by all surfaces (H: irradiance).
+    /// Σ A·(1 − ρ)·H, the power absorbed by all surfaces (H: irradiance), in the same units.
     pub absorbed: [f64; 3],
+    /// `emitted` in watts per channel: the scene's length unit applied.
+    pub emitted_w: [f64; 3],
+    /// `absorbed` in watts per channel.
+    pub absorbed_w: [f64; 3],
+    /// The luminous flux emitted, lm: the Rec. 709 luminance of `emitted_w` (the channels of a
+    /// white luminaire hold its lumens, as grids' lux are the luminance of the irradiance).
+    pub emitted_lm: f64,
+    /// The luminous flux absorbed, lm.
+    pub absorbed_lm: f64,
+}
+
+impl Energy {
+    /// The balance of `emitted` and `absorbed` power in a scene whose length unit is `metres`
+    /// long.
+    #[must_use]
+    pub fn new(emitted: crate::Rgb, absorbed: crate::Rgb, metres: f64) -> Self {
+        let (emitted_w, absorbed_w) = (emitted * metres * metres, absorbed * metres * metres);
+        Self {
+            emitted: emitted.to_array(),
+            absorbed: absorbed.to_array(),
+            emitted_w: emitted_w.to_array(),
+            absorbed_w: absorbed_w.to_array(),
+            emitted_lm: crate::color::luminance(emitted_w),
+            absorbed_lm: crate::color::luminance(absorbed_w),
+        }
+    }
 }
 
 /// Area and mean radiosity of a named group of surfaces.

@@ -133,7 +133,12 @@ fn hierarchical_and_gauss_seidel_agree_per_wall() {
     let b = run(lit_cube(0.6, 5.0, at), Method::Hierarchical, 1536);
     let wall = |s: &Solved, name: &str| {
         let stats = s.stats(&radiosity::stats::Timings::default());
-        stats.objects.iter().find(|o| o.name == name).unwrap().radiosity[0]
+        stats
+            .objects
+            .iter()
+            .find(|o| o.name == name)
+            .unwrap()
+            .radiosity[0]
     };
     for name in ["x0", "x1", "y0", "y1", "z0", "z1"] {
         let (g, h) = (wall(&a, name), wall(&b, name));
