@@ -12,8 +12,8 @@
 //! EULUMDAT) in the luminaire's own frame: −Z the nadir (the scene's `aim`), +X the C0 plane,
 //! +Y the C90 plane. The shorthand `point` and `spot` lights are distributions too, written
 //! here: a point light I(ω) = I₀ in every direction, a spot I₀ inside its beam, falling to 0 at
-//! its cone's edge as the square of a linear ramp in cos γ (the attenuation glTF's
-//! `KHR_lights_punctual` specifies).
+//! its cone's edge ([`Falloff`]: as the square of a linear ramp in cos γ, the attenuation glTF's
+//! `KHR_lights_punctual` specifies, or linearly in γ, as Mitsuba's `spot`).
 //!
 //! A white luminaire's candela fill the three channels, so its radiometric numbers read
 //! directly as photometric ones (cd, lm, lx); a colour tints the channels at a luminance of 1.
@@ -139,16 +139,40 @@ pub fn isotropic(candela: f64) -> Distribution {
     .expect("a finite, non-negative intensity")
 }
 
+/// How a spot's intensity falls from its beam (half-angle β) to its cone's edge (κ).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Falloff {
+    /// ((cos γ − cos κ) / (cos β − cos κ))², glTF's `KHR_lights_punctual`.
+    SquaredCosineRamp,
+    /// (κ − γ) / (κ − β), Mitsuba 3's `spot`.
+    LinearAngle,
+}
+
+impl Falloff {
+    /// The factor at angle `gamma` between `beam` and `cone` (degrees), in [0, 1].
+    fn at(self, gamma: f64, beam: f64, cone: f64) -> f64 {
+        let t = match self {
+            Self::SquaredCosineRamp => {
+                let c = |a: f64| a.to_radians().cos();
+                ((c(gamma) - c(cone)) / (c(beam) - c(cone)))
+                    .clamp(0.0, 1.0)
+                    .powi(2)
+            }
+            Self::LinearAngle => (cone - gamma) / (cone - beam),
+        };
+        t.clamp(0.0, 1.0)
+    }
+}
+
 /// The distribution of a spot of intensity `candela` on its axis, full out to the half-angle
-/// `beam` and falling to 0 at the half-angle `cone` (degrees, 0 ≤ beam < cone ≤ 180) as the
-/// square of the linear ramp in cos γ between them.
+/// `beam` and falling to 0 at the half-angle `cone` (degrees, 0 ≤ beam < cone ≤ 180) as
+/// `falloff` says.
 ///
 /// # Panics
 /// Never for a finite, non-negative intensity and angles in order (checked when the scene
 /// is).
 #[must_use]
-pub fn spot(candela: f64, beam: f64, cone: f64) -> Distribution {
-    let (cos_beam, cos_cone) = (beam.to_radians().cos(), cone.to_radians().cos());
+pub fn spot(candela: f64, beam: f64, cone: f64, falloff: Falloff) -> Distribution {
     let mut gamma = vec![0.0];
     gamma.extend((0..=SPOT_STEPS).map(|k| beam + (cone - beam) * k as f64 / SPOT_STEPS as f64));
     if cone < 180.0 {
@@ -157,10 +181,7 @@ pub fn spot(candela: f64, beam: f64, cone: f64) -> Distribution {
     gamma.dedup();
     let values = gamma
         .iter()
-        .map(|&g: &f64| {
-            let ramp = (g.to_radians().cos() - cos_cone) / (cos_beam - cos_cone);
-            candela * ramp.clamp(0.0, 1.0).powi(2)
-        })
+        .map(|&g| candela * falloff.at(g, beam, cone))
         .collect();
     Distribution::new(Symmetry::Rotational, &[0.0], &gamma, values)
         .expect("a finite, non-negative intensity and rising angles")
@@ -210,7 +231,11 @@ mod tests {
 
     #[test]
     fn a_spot_lights_its_cone_only_and_its_flux_is_the_closed_form() {
-        let l = lamp(spot(1000.0, 20.0, 30.0), Vec3::NEG_Y, 1.0);
+        let l = lamp(
+            spot(1000.0, 20.0, 30.0, Falloff::SquaredCosineRamp),
+            Vec3::NEG_Y,
+            1.0,
+        );
         let at = |deg: f64| {
             l.intensity(Vec3::new(
                 deg.to_radians().sin() as f32,

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use model::Transform;
 
 use super::super::description::{Field, LightDesc, LuminaireDesc, SceneDesc, Strength};
-use super::super::luminaire::{isotropic, spot, Luminaire};
+use super::super::luminaire::{isotropic, spot, Falloff, Luminaire};
 use super::super::{Loc, SceneError};
 use crate::color::luminance;
 use crate::photometry;
@@ -38,8 +38,9 @@ pub(super) fn build(
             beam,
         } => {
             let beam = beam.as_ref().map_or(0.75 * cone.value, |b| b.value);
-            let unit = spot(1.0, beam, cone.value);
-            spot(candela(strength, unit.flux()), beam, cone.value)
+            let falloff = Falloff::SquaredCosineRamp;
+            let unit = spot(1.0, beam, cone.value, falloff);
+            spot(candela(strength, unit.flux()), beam, cone.value, falloff)
         }
     };
     let tint = l

@@ -46,7 +46,15 @@ impl Scene {
             match o.class {
                 Class::Shape if o.kind == "shapegroup" => {}
                 Class::Shape => walk.shape(&mut b, o, Mat4::IDENTITY)?,
-                Class::Emitter => environments.push(mi::environment(o, version6)?),
+                Class::Emitter => {
+                    let name =
+                        o.id.clone()
+                            .unwrap_or_else(|| format!("{}{}", o.kind, b.scene.luminaires.len()));
+                    match mi::luminaire(o, &name)? {
+                        Some(l) => b.scene.luminaires.push(l),
+                        None => environments.push(mi::environment(o, version6)?),
+                    }
+                }
                 Class::Sensor => {
                     if cameras.is_empty() && matches!(o.kind.as_str(), "perspective" | "thinlens") {
                         let (camera, size) = mi::camera(o, "default")?;

@@ -533,13 +533,7 @@ impl Builder {
         if self.scene.polygons.is_empty() {
             return Err(SceneError::in_file(&self.file, "the scene has no polygons"));
         }
-        let materials = &self.scene.materials;
-        if !self
-            .scene
-            .polygons
-            .iter()
-            .any(|p| materials[p.material].is_emitter())
-        {
+        if !self.scene.has_emitter() {
             self.scene
                 .warnings
                 .push(format!("{}: {}", self.file.display(), super::sky::NO_LIGHT));

@@ -15,12 +15,13 @@
 //! | `bsdf` | a diffuse reflectance ([`bsdf`]'s table) |
 //! | `emitter` `area` in a shape | the shape's emitted radiance (`radiance`), from its front |
 //! | `emitter` `constant`, `envmap`, `sunsky` (0.6 also `sun`, `sky`) | distant light ([`Environment`]) |
+//! | `emitter` `point`, `spot` | a point luminaire ([`crate::scene::luminaire`], [`luminaire`]) |
 //! | `sensor` `perspective`, `thinlens` | the scene's camera (`fov`, `fov_axis`, the film's size) |
 //! | `integrator`, `sampler`, `rfilter`, `film` (but its size) | ignored: a radiosity renderer has its own |
 //!
 //! Plugins Mitsuba does not have are errors at their `file:line:col`; plugins it has that a
-//! radiosity renderer cannot stand for (participating media, point and spot lights, curves,
-//! `serialized` meshes) are errors too, saying so, never silent drops.
+//! radiosity renderer cannot stand for (participating media, directional and projector lights,
+//! curves, `serialized` meshes) are errors too, saying so, never silent drops.
 
 pub mod bsdf;
 pub mod shapes;
@@ -28,7 +29,10 @@ pub mod xml;
 
 use glam::Vec3;
 
+use std::sync::Arc;
+
 use crate::scene::environment::{Environment, SunSky};
+use crate::scene::luminaire::{isotropic, spot, Falloff, Luminaire};
 use crate::scene::{Camera, RenderDefaults, SceneError};
 use xml::{resolve, Class, Object, Value};
 
@@ -191,13 +195,65 @@ pub fn environment(emitter: &Object, version6: bool) -> Result<Environment, Scen
             }))
         }
         "area" => Err(emitter.error("an area emitter belongs inside the <shape> that emits")),
-        kind @ ("point" | "spot" | "directional" | "projector" | "collimated" | "directionalarea") => {
+        kind @ ("point" | "spot") => Err(emitter.error(format!(
+            "a `{kind}` emitter is a point luminaire, not distant light"
+        ))),
+        kind @ ("directional" | "projector" | "collimated" | "directionalarea") => {
             Err(emitter.error(format!(
-                "`{kind}` emitters are not read yet: a radiosity scene needs emitting surfaces (model the lamp as a small emitting shape)"
+                "`{kind}` emitters are not read yet: model the light as a small emitting shape, a point or spot light, or a sunsky"
             )))
         }
         kind => Err(emitter.error(format!("unknown emitter plugin `{kind}`"))),
     }
+}
+
+/// A `point` or `spot` emitter as the point luminaire `name` (`None` for other emitters).
+///
+/// Both shine `intensity` (W·sr⁻¹ per channel, default 1) from `to_world`·(0, 0, 0) (a point
+/// light's `position` instead, when given); a spot along `to_world`·+z, fully out to
+/// `beam_width` and falling linearly in angle to 0 at `cutoff_angle` (degrees, default 20 and
+/// ¾ of it, as Mitsuba 3). Mitsuba scenes have no length unit: metres.
+///
+/// # Errors
+/// A textured spot, angles out of order, or properties of the wrong type.
+pub fn luminaire(emitter: &Object, name: &str) -> Result<Option<Luminaire>, SceneError> {
+    let to_world = emitter.transform("to_world")?;
+    let intensity = colour(emitter, "intensity", 1.0)?;
+    let origin = to_world.transform_point3(Vec3::ZERO);
+    let (position, aim, distribution) = match emitter.kind.as_str() {
+        "point" => (
+            emitter.vector("position", origin)?,
+            Vec3::NEG_Y,
+            isotropic(1.0),
+        ),
+        "spot" => {
+            if emitter.get("texture").is_some() {
+                return Err(emitter.error("a textured spot is not read"));
+            }
+            let cone = emitter.float("cutoff_angle", 20.0)?;
+            let beam = emitter.float("beam_width", 0.75 * cone)?;
+            if !(cone > 0.0 && cone <= 180.0 && beam >= 0.0 && beam < cone) {
+                return Err(emitter.error(format!(
+                    "a spot needs 0 ≤ beam_width < cutoff_angle ≤ 180 (got {beam} and {cone})"
+                )));
+            }
+            let aim = to_world
+                .transform_vector3(Vec3::Z)
+                .try_normalize()
+                .ok_or_else(|| emitter.error("`to_world` gives the spot no direction"))?;
+            (origin, aim, spot(1.0, beam, cone, Falloff::LinearAngle))
+        }
+        _ => return Ok(None),
+    };
+    Ok(Some(Luminaire::new(
+        name,
+        position,
+        aim,
+        0.0,
+        Arc::new(distribution),
+        intensity,
+        1.0,
+    )))
 }
 
 /// An area emitter's radiance (default 1, as Mitsuba 0.6).
@@ -260,8 +316,39 @@ mod tests {
     }
 
     #[test]
-    fn point_lights_and_unknown_emitters_are_located_errors() {
-        let e = environment(&first("<emitter type=\"point\"/>"), false).unwrap_err();
+    fn point_and_spot_emitters_are_luminaires() {
+        let o = first(
+            r#"<emitter type="point"><point name="position" x="1" y="2" z="3"/>
+               <rgb name="intensity" value="4, 5, 6"/></emitter>"#,
+        );
+        let l = luminaire(&o, "bulb").unwrap().unwrap();
+        assert_eq!(l.position, Vec3::new(1.0, 2.0, 3.0));
+        // 2 m straight above a floor point: I / 4.
+        let e = l.irradiance(Vec3::new(1.0, 0.0, 3.0), Vec3::Y);
+        assert!((e - crate::Rgb::new(1.0, 1.25, 1.5)).abs().max_element() < 1e-9);
+        // A spot at the origin looking down −y (to_world turns +z there), cutoff 40°, beam
+        // 20°: full at 10° off its axis, half-way down in angle at 30°, dark at 45°.
+        let o = first(
+            r#"<emitter type="spot"><float name="intensity" value="100"/>
+               <float name="cutoff_angle" value="40"/><float name="beam_width" value="20"/>
+               <transform name="to_world"><rotate x="1" angle="90"/></transform></emitter>"#,
+        );
+        let l = luminaire(&o, "spot").unwrap().unwrap();
+        let towards = |deg: f32| {
+            let r = deg.to_radians();
+            Vec3::new(r.sin(), -r.cos(), 0.0)
+        };
+        assert!((l.intensity(towards(10.0)).x - 100.0).abs() < 1e-6);
+        assert!((l.intensity(towards(30.0)).x - 50.0).abs() < 0.5);
+        assert_eq!(l.intensity(towards(45.0)).x, 0.0);
+        assert!(luminaire(&first("<emitter type=\"constant\"/>"), "sky")
+            .unwrap()
+            .is_none());
+    }
+
+    #[test]
+    fn directional_lights_and_unknown_emitters_are_located_errors() {
+        let e = environment(&first("<emitter type=\"directional\"/>"), false).unwrap_err();
         assert!(e.message.contains("not read yet"), "{e}");
         let e = environment(&first("<emitter type=\"laser\"/>"), false).unwrap_err();
         assert!(e.message.contains("unknown emitter plugin `laser`"), "{e}");
