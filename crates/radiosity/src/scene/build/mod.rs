@@ -127,6 +127,7 @@ impl Scene {
             &Transform::IDENTITY,
             &path.display().to_string(),
         );
+        b.scene.luminaires = gltf.luminaires;
         b.finish(gltf.cameras, RenderDefaults::default())
     }
 
@@ -346,7 +347,16 @@ fn build_mesh(
                     .with_key(path.key.clone()),
             );
         }
-        gltf_file::read_gltf(&full)?.mesh
+        let gltf = gltf_file::read_gltf(&full)?;
+        if !gltf.luminaires.is_empty() {
+            b.scene.warnings.push(format!(
+                "{label}: {} KHR_lights_punctual light(s) of `{}` left out: a mesh object brings \
+                 its surfaces only (load the file as the scene to keep them)",
+                gltf.luminaires.len(),
+                full.display()
+            ));
+        }
+        gltf.mesh
     } else {
         let text = std::fs::read_to_string(&full).map_err(|e| {
             SceneError::at(at, format!("cannot read mesh `{}`: {e}", full.display()))

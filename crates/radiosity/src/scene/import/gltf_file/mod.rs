@@ -13,7 +13,12 @@
 //!   Textures are ignored (with a warning): a radiosity patch has one reflectance;
 //! - `COLOR_0` per vertex, kept for round trips (white where absent, as the specification says);
 //! - perspective cameras: the eye at M·(0,0,0), looking down M's −z with M's +y up, `yfov` as the
-//!   vertical field of view. Orthographic cameras are skipped with a warning.
+//!   vertical field of view. Orthographic cameras are skipped with a warning;
+//! - `KHR_lights_punctual` point and spot lights as point luminaires
+//!   ([`crate::scene::luminaire`]): `intensity` (cd) × `color` from M·(0,0,0), a spot along M's
+//!   −z with its `innerConeAngle` and `outerConeAngle` and the extension's falloff; `range` is
+//!   left out (light falls as 1/r² to any distance) and so are directional lights, with a
+//!   warning.
 //!
 //! An object is named after its node (else its mesh, else `node{i}`); nodes that share a name
 //! are one object. Buffers are the GLB binary chunk, `data:` URIs (base64) or files relative to
@@ -45,6 +50,7 @@ use glam::{Mat4, Vec3};
 use gltf::mesh::Mode;
 
 use super::obj::{ObjFace, ObjFile};
+use crate::scene::luminaire::{isotropic, spot, Falloff, Luminaire};
 use crate::scene::{Camera, Material, SceneError};
 use crate::Rgb;
 
@@ -67,6 +73,8 @@ pub struct GltfFile {
     pub colours: Vec<Rgb>,
     /// Perspective cameras, in node order.
     pub cameras: Vec<Camera>,
+    /// `KHR_lights_punctual` point and spot lights, in node order.
+    pub luminaires: Vec<Luminaire>,
 }
 
 /// Reads a `.gltf` or `.glb` file.
@@ -211,6 +219,9 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
                 )),
             }
         }
+        if let Some(light) = node.light() {
+            out.luminaires.extend(luminaire(&light, &node, world));
+        }
         if let Some(mesh) = node.mesh() {
             let name = node
                 .name()
@@ -318,28 +329,58 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
     Ok(out)
 }
 
-/// The warning for the file's `KHR_lights_punctual` lamps, if it has any: they are not
-/// imported (radiosity's emitters are surfaces), so the file loads and says what it left out;
-/// its emissive materials light it, or the default sky when none emits.
+/// A `KHR_lights_punctual` point or spot light at the node whose world transform is `world`,
+/// as a point luminaire (module docs); `None` for a directional light.
+fn luminaire(
+    light: &gltf::khr_lights_punctual::Light,
+    node: &gltf::Node,
+    world: Mat4,
+) -> Option<Luminaire> {
+    use gltf::khr_lights_punctual::Kind;
+    let (distribution, aim) = match light.kind() {
+        Kind::Point => (isotropic(1.0), Vec3::NEG_Y),
+        Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => {
+            let cone = f64::from(outer_cone_angle).to_degrees().clamp(1e-3, 90.0);
+            let beam = f64::from(inner_cone_angle)
+                .to_degrees()
+                .clamp(0.0, cone * (1.0 - 1e-6));
+            let aim = world.transform_vector3(-Vec3::Z).try_normalize()?;
+            (spot(1.0, beam, cone, Falloff::SquaredCosineRamp), aim)
+        }
+        Kind::Directional => return None,
+    };
+    let name = light
+        .name()
+        .or(node.name())
+        .map_or_else(|| format!("light{}", light.index()), str::to_string);
+    let colour = Vec3::from_array(light.color()).as_dvec3().max(Rgb::ZERO);
+    Some(Luminaire::new(
+        &name,
+        world.transform_point3(Vec3::ZERO),
+        aim,
+        0.0,
+        std::sync::Arc::new(distribution),
+        colour * f64::from(light.intensity().max(0.0)),
+        1.0,
+    ))
+}
+
+/// The warning for the file's directional `KHR_lights_punctual` lights, if it has any: they are
+/// not imported, so the file loads and says what it left out.
 fn punctual_lights(doc: &gltf::Document, file: &Path) -> Option<String> {
     use gltf::khr_lights_punctual::Kind;
-    let mut count = [0usize; 3];
-    for light in doc.lights()? {
-        count[match light.kind() {
-            Kind::Point => 0,
-            Kind::Spot { .. } => 1,
-            Kind::Directional => 2,
-        }] += 1;
-    }
-    let total: usize = count.iter().sum();
-    (total > 0).then(|| {
+    let directional = doc
+        .lights()?
+        .filter(|l| matches!(l.kind(), Kind::Directional))
+        .count();
+    (directional > 0).then(|| {
         format!(
-            "{}: {total} KHR_lights_punctual light(s) left out ({} point, {} spot, {} \
-             directional): only emissive surfaces light a radiosity scene",
+            "{}: {directional} directional KHR_lights_punctual light(s) left out: give the \
+             sun with a [sky] or model the light as an emitting surface",
             file.display(),
-            count[0],
-            count[1],
-            count[2]
         )
     })
 }
@@ -474,22 +515,43 @@ mod tests {
     }
 
     /// A file that requires `KHR_lights_punctual` (Blender's exporter with its lamps) loads;
-    /// its lamps are named in a warning.
+    /// its point and spot lights at nodes become luminaires, its directional light a warning.
     #[test]
-    fn a_file_that_requires_punctual_lights_loads_and_says_they_are_left_out() {
-        let with_lights = sample().replacen(
-            r#""extensionsUsed": ["KHR_materials_emissive_strength"],"#,
-            r#""extensionsUsed": ["KHR_materials_emissive_strength", "KHR_lights_punctual"],
+    fn punctual_lights_become_luminaires() {
+        let with_lights = sample()
+            .replacen(
+                r#""extensionsUsed": ["KHR_materials_emissive_strength"],"#,
+                r#""extensionsUsed": ["KHR_materials_emissive_strength", "KHR_lights_punctual"],
   "extensionsRequired": ["KHR_lights_punctual"],
   "extensions": {"KHR_lights_punctual": {"lights": [
     {"type": "point", "intensity": 100},
     {"type": "spot", "intensity": 50, "spot": {"outerConeAngle": 0.5}},
-    {"type": "point", "color": [1, 0.5, 0.5]}]}},"#,
-            1,
-        );
-        assert_ne!(with_lights, sample());
+    {"type": "point", "color": [1, 0.5, 0.5]},
+    {"type": "directional"}]}},"#,
+                1,
+            )
+            .replacen(r#""nodes": [0, 2]"#, r#""nodes": [0, 2, 3, 4, 5]"#, 1)
+            .replacen(
+                r#"{"name": "cam", "camera": 0, "translation": [0, 1, 5]}"#,
+                r#"{"name": "cam", "camera": 0, "translation": [0, 1, 5]},
+    {"name": "bulb", "translation": [0, 3, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+    {"name": "down", "translation": [1, 3, 0], "rotation": [-0.70710678, 0, 0, 0.70710678],
+     "extensions": {"KHR_lights_punctual": {"light": 1}}},
+    {"name": "sun", "extensions": {"KHR_lights_punctual": {"light": 3}}}"#,
+                1,
+            );
         let g = parse_gltf(with_lights.as_bytes(), Path::new("t.gltf")).expect("loads");
         assert_eq!(g.mesh.faces.len(), 1);
+        assert_eq!(g.luminaires.len(), 2);
+        // 100 cd 3 m over the origin: 100 / 9 lx.
+        let bulb = &g.luminaires[0];
+        assert_eq!(bulb.name, "bulb");
+        let e = bulb.irradiance(Vec3::ZERO, Vec3::Y).x;
+        assert!((e - 100.0 / 9.0).abs() < 1e-5, "{e}");
+        // The spot, turned to look down −y: 50 cd on its axis, dark beyond 0.5 rad.
+        let spot = &g.luminaires[1];
+        assert!((spot.intensity(Vec3::NEG_Y).x - 50.0).abs() < 1e-3);
+        assert_eq!(spot.intensity(Vec3::new(0.7, -1.0, 0.0)).x, 0.0);
         let warning = g
             .mesh
             .warnings
@@ -497,14 +559,13 @@ mod tests {
             .find(|w| w.contains("KHR_lights_punctual"))
             .expect("a warning");
         assert!(
-            warning.starts_with(
-                "t.gltf: 3 KHR_lights_punctual light(s) left out (2 point, 1 spot, 0 directional)"
-            ),
+            warning.starts_with("t.gltf: 1 directional KHR_lights_punctual light(s) left out"),
             "{warning}"
         );
         // Without lamps, no such warning.
         let g = parse_gltf(sample().as_bytes(), Path::new("t.gltf")).expect("valid");
         assert!(!g.mesh.warnings.iter().any(|w| w.contains("KHR_lights")));
+        assert!(g.luminaires.is_empty());
     }
 
     #[test]
