@@ -110,17 +110,29 @@ pub fn rounded(lux: f64) -> String {
     format!("{lux:.digits$}")
 }
 
-/// Reads every grid of `scene` from its solution.
+/// Reads every grid of `scene` from its solution; daylight factors only where the sky is the
+/// scene's only light.
 #[must_use]
 pub fn measure(scene: &Scene, mesh: &Mesh, solution: &Solution) -> Vec<Reading> {
+    let sky = scene.sky_illuminance.filter(|_| daylight_only(scene));
     meter::with_meter(scene, mesh, solution, |meter| {
         scene
             .grids
             .iter()
             .enumerate()
-            .map(|(k, grid)| read(meter, grid, k as u32, scene.sky_illuminance))
+            .map(|(k, grid)| read(meter, grid, k as u32, sky))
             .collect()
     })
+}
+
+/// Whether the scene's only light is its distant environment: no luminaire, and every
+/// emitting polygon one of the environment's tiles.
+fn daylight_only(scene: &Scene) -> bool {
+    scene.luminaires.is_empty()
+        && scene.polygons.iter().all(|p| {
+            !scene.materials[p.material].is_emitter()
+                || scene.objects[p.object].name == crate::scene::environment::NAME
+        })
 }
 
 /// The reading of one grid; `seed` keeps its rays apart from the other grids'. `sky` is the

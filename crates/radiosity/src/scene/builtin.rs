@@ -1,5 +1,5 @@
-//! Built-in scenes, compiled into the library from `scenes/<name>/scene.toml`, so that
-//! `radiosity render cornell` works from any directory.
+//! Built-in scenes, compiled into the library from `scenes/<name>/scene.toml` with the files
+//! they name ([`bundled`]), so that `radiosity render cornell` works from any directory.
 
 use std::path::Path;
 
@@ -27,6 +27,10 @@ const NAMES: &[(&str, &str)] = &[
         "solids",
         "a CSG part, a metaball blob and a torus with instances, in a lit room (solid modeling)",
     ),
+    (
+        "office",
+        "a 6 × 4 × 3 m office: six IES ceiling luminaires, a window under an overcast sky, a work-plane grid",
+    ),
 ];
 
 /// (path for messages, TOML text), in the order of [`NAMES`].
@@ -51,12 +55,32 @@ const SOURCES: &[(&str, &str)] = &[
         "scenes/solids/scene.toml",
         include_str!("../../../../scenes/solids/scene.toml"),
     ),
+    (
+        "scenes/office/scene.toml",
+        include_str!("../../../../scenes/office/scene.toml"),
+    ),
 ];
+
+/// The files the built-in scenes name (path as the scene resolves it, text).
+const FILES: &[(&str, &str)] = &[(
+    "scenes/office/panel.ies",
+    include_str!("../../../../scenes/office/panel.ies"),
+)];
 
 /// The built-in scenes: (name, one-line description).
 #[must_use]
 pub fn names() -> &'static [(&'static str, &'static str)] {
     NAMES
+}
+
+/// The text of a file a built-in scene names, by the path the scene resolves it to
+/// (`scenes/office/panel.ies`), or `None` for any other path.
+#[must_use]
+pub fn bundled(path: &Path) -> Option<&'static str> {
+    FILES
+        .iter()
+        .find(|(p, _)| Path::new(p) == path)
+        .map(|(_, text)| *text)
 }
 
 /// Loads the built-in scene `name`, or `None` if there is none of that name.

@@ -53,7 +53,7 @@ pub fn with_meter<R>(
     let lit = display::lit_mesh(mesh, &solution.radiosity);
     let meter = Meter {
         world: World::new(scene, mesh, &lit),
-        luminaires: Luminaires::new(mesh),
+        luminaires: Luminaires::new(mesh, 0),
     };
     read(&meter)
 }

@@ -96,7 +96,7 @@ mod wanted;
 use glam::Vec3;
 use rayon::prelude::*;
 
-use self::luminaires::{Luminaires, PENUMBRA_REFINE, PIECE_PENUMBRA_REFINE};
+use self::luminaires::{Luminaires, DISTANT_SIDE, PENUMBRA_REFINE, PIECE_PENUMBRA_REFINE};
 use self::near_field::{NearField, PIECES};
 use super::raytrace::sample::Sampler;
 use super::raytrace::world::World;
@@ -268,7 +268,7 @@ pub(super) fn prepare(
 ) -> Option<(Evaluation, LitMesh, LitMesh)> {
     let radiosity = &solution.radiosity;
     let mut evaluation = Evaluation {
-        luminaires: Luminaires::new(mesh),
+        luminaires: Luminaires::new(mesh, DISTANT_SIDE),
         near: NearField::new(mesh, radiosity),
         scale: Vec::new(),
     };
@@ -618,7 +618,7 @@ vertices = [[19, 0, 1], [21, 0, 1], [21, 0, -1], [19, 0, -1]]
         let lit = display::lit_mesh(&mesh, &radiosity);
         let world = World::new(&scene, &mesh, &lit);
         let mut evaluation = Evaluation {
-            luminaires: Luminaires::new(&mesh),
+            luminaires: Luminaires::new(&mesh, DISTANT_SIDE),
             near: NearField::new(&mesh, &radiosity),
             scale: Vec::new(),
         };

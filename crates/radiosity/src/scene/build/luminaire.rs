@@ -66,7 +66,8 @@ fn candela(strength: &Strength, flux_per_candela: f64) -> f64 {
     }
 }
 
-/// The distribution of the photometric file at `path` (relative to the scene file).
+/// The distribution of the photometric file at `path` (relative to the scene file; a built-in
+/// scene's own files are compiled in, [`super::super::builtin::bundled`]).
 fn read(
     desc: &SceneDesc,
     path: &Field<std::path::PathBuf>,
@@ -81,7 +82,13 @@ fn read(
         line: path.pos.line,
         col: path.pos.col,
     };
-    photometry::read(&full)
-        .map(|f| f.distribution)
+    let file = match (
+        super::super::builtin::bundled(&full),
+        photometry::Format::from_path(&full),
+    ) {
+        (Some(text), Some(format)) => photometry::parse(format, text, &full),
+        _ => photometry::read(&full),
+    };
+    file.map(|f| f.distribution)
         .map_err(|e| SceneError::at(at, e.to_string()).with_key(path.key.clone()))
 }
