@@ -43,7 +43,8 @@ pub enum Command {
     /// B-spline) as SVG.
     Curve(CurveArgs),
     /// Run the built-in validation suite (closed-form view factors, CIE 171:2006 integrating
-    /// sphere, inverse-square law, energy conservation) and print the table.
+    /// sphere and daylight through an opening, inverse-square law, energy conservation) and
+    /// print the table.
     Validate(crate::validate::ValidateArgs),
 }
 

@@ -33,9 +33,14 @@
 //!   worst object is 0.68 % off at 948 elements and 0.36 % at 3 792 and 15 168 (a floor set by
 //!   the 2 × 2 quadrature of the form factors); the reference's standard error is at most 0.2 %
 //!   (floor) and 0.12 % elsewhere. Hence the tolerance 1.5 % ≥ 0.7 % + 3 × 0.2 %.
+//! - **Daylight through an opening** (CIE 171:2006 §5.9–5.13): a black room lit by a CIE sky
+//!   through a roof opening or a window, floor points read by the calculation grids against
+//!   an independent quadrature of the sky over the opening ([`daylight`]).
 //!
 //! The reference suite (scenes made elsewhere against Mitsuba 3) is a developer tool with the
 //! same rows: `cargo xtask suite`.
+
+mod daylight;
 
 use std::io::Write;
 
@@ -156,11 +161,12 @@ fn suite() -> anyhow::Result<Vec<Check>> {
         tolerance: 1e-3,
     });
     rows.extend(cornell()?);
+    rows.extend(daylight::rows()?);
     Ok(rows)
 }
 
 /// Output of `benches/cornell_reference.py` (Mitsuba 3 on `scenes/cornell/scene.toml`).
-const CORNELL_REFERENCE: &str = include_str!("../data/cornell_reference.json");
+const CORNELL_REFERENCE: &str = include_str!("../../data/cornell_reference.json");
 
 /// Elements of our Cornell box solve (948 after quadtree rounding): under a second in release.
 const CORNELL_ELEMENTS: usize = 1000;
@@ -226,9 +232,9 @@ fn cornell() -> anyhow::Result<Vec<Check>> {
     Ok(rows)
 }
 
-/// Solves `scene` with about `elements` elements, Gauss-Seidel to 10⁻⁹.
-fn solved(scene: Scene, elements: usize, method: formfactor::Method) -> anyhow::Result<Stats> {
-    let settings = Settings {
+/// The suite's solver settings: about `elements` elements, Gauss-Seidel to 10⁻⁹.
+fn settings(elements: usize, method: formfactor::Method) -> Settings {
+    Settings {
         subdivision: Subdivision::Elements(elements),
         discontinuity: false,
         display: pipeline::Display::Averaged,
@@ -238,8 +244,12 @@ fn solved(scene: Scene, elements: usize, method: formfactor::Method) -> anyhow::
             ..solve::Settings::default()
         },
         method: Some(solve::Method::GaussSeidel),
-    };
-    let solved = pipeline::solve(scene, &settings, &Silent)?;
+    }
+}
+
+/// Solves `scene` with [`settings`] and returns its statistics.
+fn solved(scene: Scene, elements: usize, method: formfactor::Method) -> anyhow::Result<Stats> {
+    let solved = pipeline::solve(scene, &settings(elements, method), &Silent)?;
     Ok(solved.stats(&Timings::default()))
 }
 
