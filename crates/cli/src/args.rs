@@ -405,7 +405,8 @@ pub struct FormFactorArgs {
     /// Shadow rays per element–source pair, stratified (ray-cast form factors) [default: 4]
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub rays: Option<u32>,
-    /// Seed of the ray-cast form factors' jitter and of the hemicubes' rotations [default: 0]
+    /// Seed of the ray-cast form factors' jitter, of the hemicubes' rotations and of the rays
+    /// of the calculation grids' meter (`--grids`) [default: 0]
     #[arg(long)]
     pub seed: Option<u64>,
     /// Cells along a full edge of a hemicube (hemicube form factors) [default: 128]

@@ -474,7 +474,8 @@ pub(crate) fn finish(
         .as_ref()
         .filter(|p| may_write(p, solved, common))
     {
-        let readings = grids::measure(&solved.scene, &solved.mesh, &solved.solution);
+        let seed = common.form_factors.seed.unwrap_or(0);
+        let readings = grids::measure(&solved.scene, &solved.mesh, &solved.solution, seed);
         for r in &readings {
             let s = r.statistics;
             say(

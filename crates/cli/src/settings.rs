@@ -102,7 +102,14 @@ fn form_factor_settings(common: &CommonArgs) -> anyhow::Result<formfactor::Setti
         method,
     )?;
     set(rays, common.form_factors.rays, "--rays", method)?;
-    set(seed, common.form_factors.seed, "--seed", method)?;
+    // The seed also draws the grids' meter rays: with `--grids` it has a use under any method.
+    let meter_seed = common.outputs.grids.is_some() && seed.is_none();
+    set(
+        seed,
+        common.form_factors.seed.filter(|_| !meter_seed),
+        "--seed",
+        method,
+    )?;
     set(
         resolution,
         common.form_factors.hemicube_resolution,

@@ -267,3 +267,124 @@ spacing = 50.0
     let flux = 0.8 * std::f64::consts::PI * 1000.0;
     assert!((emitted / 1e4 / flux - 1.0).abs() < 1e-3, "{emitted}");
 }
+
+/// A grey unit room (every face counter-clockwise seen from inside) lit by a lamp under its
+/// ceiling, with a 3 × 3 grid 0.2 above the floor: part of each reading is gathered from the
+/// walls by the meter's random rays.
+const GREY_ROOM: &str = r#"
+[materials.grey]
+reflectance = 0.5
+[materials.glow]
+emission = 100.0
+
+[[objects]]
+name = "lamp"
+material = "glow"
+shape = "polygon"
+vertices = [[0.3, 0.999, 0.3], [0.7, 0.999, 0.3], [0.7, 0.999, 0.7], [0.3, 0.999, 0.7]]
+
+[[objects]]
+name = "floor"
+material = "grey"
+shape = "polygon"
+vertices = [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 0.0, 0.0]]
+
+[[objects]]
+name = "ceiling"
+material = "grey"
+shape = "polygon"
+vertices = [[0.0, 1.0, 0.0], [1.0, 1.0, 0.0], [1.0, 1.0, 1.0], [0.0, 1.0, 1.0]]
+
+[[objects]]
+name = "west"
+material = "grey"
+shape = "polygon"
+vertices = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 1.0, 1.0], [0.0, 0.0, 1.0]]
+
+[[objects]]
+name = "east"
+material = "grey"
+shape = "polygon"
+vertices = [[1.0, 0.0, 0.0], [1.0, 0.0, 1.0], [1.0, 1.0, 1.0], [1.0, 1.0, 0.0]]
+
+[[objects]]
+name = "north"
+material = "grey"
+shape = "polygon"
+vertices = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]]
+
+[[objects]]
+name = "south"
+material = "grey"
+shape = "polygon"
+vertices = [[0.0, 0.0, 1.0], [0.0, 1.0, 1.0], [1.0, 1.0, 1.0], [1.0, 0.0, 1.0]]
+
+[[grids]]
+name = "low"
+corners = [[0.0, 0.2, 0.0], [1.0, 0.2, 0.0], [0.0, 0.2, 1.0]]
+spacing = 0.3333334
+"#;
+
+/// The grid's lux column of `radiosity solve room.toml --grids DIR` with `extra` options.
+fn lux_with(dir: &Path, out: &str, extra: &[&str]) -> Vec<f64> {
+    let run = radiosity()
+        .args(["solve", "room.toml", "--quiet", "--grids", out])
+        .args(extra)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    fs::read_to_string(dir.join(out).join("low.csv"))
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|row| row.rsplit(',').next().unwrap().parse().unwrap())
+        .collect()
+}
+
+/// `--seed` draws the meter's rays: the same seed gives the same bits, another one other
+/// readings that agree within the meter's noise. The gathered part is about 40 % of each
+/// reading here and its noise at most 1 % of it (4 096 rays, `render/evaluated/meter.rs`;
+/// measured, two seeds differ by 0.11 % at most): bounded by 2 % per point and 1 % on the
+/// mean. The seed also reaches the meter under analytic form factors, which have no other use
+/// for it.
+#[test]
+fn the_seed_draws_the_meters_rays() {
+    let dir = scratch("grids-seed");
+    fs::write(dir.join("room.toml"), GREY_ROOM).unwrap();
+    let first = lux_with(&dir, "a", &["--seed", "1"]);
+    let again = lux_with(&dir, "b", &["--seed", "1"]);
+    let other = lux_with(&dir, "c", &["--seed", "2"]);
+    assert_eq!(first.len(), 9);
+    assert_eq!(
+        fs::read(dir.join("a/low.csv")).unwrap(),
+        fs::read(dir.join("b/low.csv")).unwrap(),
+        "the same seed, the same bits"
+    );
+    assert_eq!(first, again);
+    assert_ne!(first, other, "another seed, other rays");
+    for (a, b) in first.iter().zip(&other) {
+        assert!((a / b - 1.0).abs() < 0.02, "{a} vs {b}");
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    assert!((mean(&first) / mean(&other) - 1.0).abs() < 0.01);
+    let analytic = |out, seed| {
+        lux_with(
+            &dir,
+            out,
+            &[
+                "--form-factors",
+                "analytic",
+                "--elements",
+                "200",
+                "--seed",
+                seed,
+            ],
+        )
+    };
+    assert_ne!(analytic("d", "1"), analytic("e", "2"));
+}

@@ -110,17 +110,23 @@ pub fn rounded(lux: f64) -> String {
     format!("{lux:.digits$}")
 }
 
-/// Reads every grid of `scene` from its solution; daylight factors only where the sky is the
-/// scene's only light.
+/// Reads every grid of `scene` from its solution, the meter's rays drawn from `seed`: the
+/// same seed gives the same bits, another one other rays (readings that differ by the meter's
+/// noise). Daylight factors only where the sky is the scene's only light.
 #[must_use]
-pub fn measure(scene: &Scene, mesh: &Mesh, solution: &Solution) -> Vec<Reading> {
+pub fn measure(scene: &Scene, mesh: &Mesh, solution: &Solution, seed: u64) -> Vec<Reading> {
     let sky = scene.sky_illuminance.filter(|_| daylight_only(scene));
     meter::with_meter(scene, mesh, solution, |meter| {
         scene
             .grids
             .iter()
             .enumerate()
-            .map(|(k, grid)| read(meter, grid, k as u32, sky))
+            .map(|(k, grid)| {
+                // The grid's index in the low half, the run's seed in the high half: the grids
+                // of one run never share rays.
+                let stream = seed.rotate_left(32) ^ k as u64;
+                read(meter, grid, stream, sky)
+            })
             .collect()
     })
 }
@@ -137,7 +143,7 @@ fn daylight_only(scene: &Scene) -> bool {
 
 /// The reading of one grid; `seed` keeps its rays apart from the other grids'. `sky` is the
 /// unobstructed horizontal illuminance of the scene's CIE sky, if it has one.
-fn read(meter: &meter::Meter<'_>, grid: &Grid, seed: u32, sky: Option<f64>) -> Reading {
+fn read(meter: &meter::Meter<'_>, grid: &Grid, seed: u64, sky: Option<f64>) -> Reading {
     let points = grid.points();
     let irradiance = meter.irradiance(&points, grid.normal, seed);
     let lux: Vec<f64> = irradiance.iter().map(|&e| luminance(e)).collect();

@@ -285,7 +285,7 @@ fn measured(case: &Case) -> anyhow::Result<Vec<f64>> {
         ..settings(0, formfactor::Method::RayCast)
     };
     let solved = pipeline::solve(scene, &settings, &Silent)?;
-    let readings = grids::measure(&solved.scene, &solved.mesh, &solved.solution);
+    let readings = grids::measure(&solved.scene, &solved.mesh, &solved.solution, 0);
     Ok(readings.iter().map(|r| r.lux[0]).collect())
 }
 

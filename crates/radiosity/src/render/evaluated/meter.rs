@@ -27,7 +27,7 @@
 //! direct light, which the meter now reads to 10⁻⁹.
 //!
 //! The rays of point k are seeded by (k, `seed`) alone: the readings do not depend on the
-//! thread count.
+//! thread count, and another seed draws other rays.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -81,12 +81,12 @@ impl Meter<'_> {
     /// The irradiance (W·m⁻² per channel) at each of `points` on a small surface facing the
     /// unit normal `normal`; `seed` tells apart the rays of different calls.
     #[must_use]
-    pub fn irradiance(&self, points: &[Vec3], normal: Vec3, seed: u32) -> Vec<Rgb> {
+    pub fn irradiance(&self, points: &[Vec3], normal: Vec3, seed: u64) -> Vec<Rgb> {
         points
             .par_iter()
             .enumerate()
             .map(|(k, &x)| {
-                let mut sampler = Sampler::new(k as u32, seed, 0);
+                let mut sampler = Sampler::new(k as u32, seed as u32, (seed >> 32) as u32);
                 let direct = self.luminaires.irradiance(
                     &self.world,
                     x,
