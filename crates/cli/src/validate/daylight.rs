@@ -11,7 +11,8 @@
 //! with its calculation grids ([`radiosity::grids::measure`]: the sky's tiles are emitting
 //! faces, their light exact per point); the reference is the integral above by a 64 × 64
 //! Gauss–Legendre rule over the opening, with the skies written here from their standards
-//! rather than taken from `cie_sky.rs` (up = +y, Z the zenith angle, L_z = [`ZENITH`]):
+//! rather than taken from `cie_sky.rs`; each row is accepted within [`TOLERANCE`] of it (up =
+//! +y, Z the zenith angle, L_z = [`ZENITH`]):
 //!
 //! - CIE standard overcast sky (Moon & Spencer): L = L_z (1 + 2 cos Z) / 3;
 //! - CIE standard clear sky, ISO 15469:2004 type 12: L = L_z f(χ) φ(Z) / (f(Z_s) φ(0)),
@@ -51,6 +52,13 @@ const ZENITH: f64 = 10_000.0;
 
 /// Gauss–Legendre nodes per side of the opening.
 const NODES: usize = 64;
+
+/// Largest accepted relative error of a point's illuminance, under either sky: the tightest
+/// the measured errors allow (`docs/validation.md`). Read with 64 seeds of the meter, a row's
+/// systematic error is at most 1.29 % (the sky's tiles, clear sky, room corner) and the
+/// scatter of one reading σ ≤ 0.37 % (the shadow rays through the opening); the mean plus
+/// 3σ of the worst row is 1.66 %.
+const TOLERANCE: f64 = 0.02;
 
 /// A rectangle: `corner + s u + t v`, s, t ∈ [0, 1].
 #[derive(Clone, Copy, Debug)]
@@ -180,18 +188,6 @@ impl Sky {
             up: Vec3::Y,
         })
     }
-
-    /// Largest accepted relative error of a point's illuminance under this sky, from the
-    /// errors measured in `docs/validation.md` with a margin: overcast at most 1.6 % (the
-    /// tiles' averaging, the shadow rays' scatter of 0.3–0.55 %, and up to 1.6 % of light the
-    /// meter gathers from the sky's tiles as if they reflected), clear at most 4.0 % (mostly
-    /// that gathered light, up to 45 lx where the sky's tiles differ most).
-    fn tolerance(self) -> f64 {
-        match self {
-            Self::Overcast => 0.025,
-            Self::Clear(_) => 0.05,
-        }
-    }
 }
 
 /// One case: a sky through an opening, read at named floor points (x, z).
@@ -251,7 +247,7 @@ pub(super) fn rows() -> anyhow::Result<Vec<Check>> {
                 quantity: "illuminance (lx)",
                 reference,
                 ours,
-                tolerance: case.sky.tolerance(),
+                tolerance: TOLERANCE,
             });
         }
     }
