@@ -34,6 +34,12 @@ Points are measured in this order: the darkest and brightest point of our CSV, e
 `--stride`-th point, then the others; no new point starts after `--budget` seconds, so the
 JSON says which points were measured (`points`) and the summary is over those.
 
+With `--mitsuba-from JSON` (an earlier output of this script) nothing is rendered: Mitsuba's
+side (the sky check, each point's passes, mean and standard error, the timings) is taken from
+that file, which must have measured the same points, and only our side is read again. Mitsuba's
+numbers do not depend on our code, so this compares a changed engine against the same
+reference without the half hour of rendering.
+
 Usage:
     radiosity solve benches/grids/daylight_window.toml --grids /tmp/day
     DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 \\
@@ -188,6 +194,7 @@ def main():
     ap.add_argument("--sky-width", type=int, default=2048)
     ap.add_argument("--sky-height", type=int, default=1025)
     ap.add_argument("--variant", default="llvm_ad_rgb")
+    ap.add_argument("--mitsuba-from", help="reuse Mitsuba's side of this earlier output")
     args = ap.parse_args()
     mi.set_variant(args.variant)
     start = time.time()
@@ -202,6 +209,12 @@ def main():
     if os.path.exists(grids_json):
         with open(grids_json) as f:
             ours_stats = json.load(f)
+
+    if args.mitsuba_from:
+        with open(args.mitsuba_from) as f:
+            earlier = json.load(f)
+        print(json.dumps(reused(earlier, rows, normal, ours_stats, args), indent=1))
+        return
 
     bitmap, lz = sky_bitmap(data["sky"], args.sky_width, args.sky_height)
     check = sky_check(bitmap, lz, args)
@@ -255,6 +268,47 @@ def main():
     measure_seconds = time.time() - measure_start
 
     points.sort(key=lambda q: q["index"])
+    print(json.dumps({
+        "scene": os.path.relpath(args.scene, HERE.parent.parent),
+        "csv": os.path.basename(args.csv),
+        "normal": normal,
+        "ours_grids_json": ours_stats,
+        "mitsuba": mi.__version__,
+        "variant": args.variant,
+        "integrator": {"type": "path", "max_depth": args.max_depth, "rr_depth": args.rr_depth},
+        "sky_bitmap": [args.sky_width, args.sky_height],
+        "meter_side": args.meter,
+        "spp_per_pass": args.spp,
+        "min_passes": args.min_passes,
+        "max_passes": args.max_passes,
+        "target_relative_standard_error": args.target,
+        "stride": args.stride,
+        "sky_check": check,
+        "mitsuba_seconds": time.time() - start,
+        "mitsuba_measure_seconds": measure_seconds,
+        "summary": summarize(points, rows),
+        "points": points,
+    }, indent=1))
+
+
+def reused(earlier, rows, normal, ours_stats, args):
+    """The output of an earlier run with our side read again from `rows` (module docs)."""
+    for key, value in [("csv", os.path.basename(args.csv)), ("normal", normal),
+                       ("scene", os.path.relpath(args.scene, HERE.parent.parent))]:
+        assert earlier[key] == value, f"--mitsuba-from measured another {key}: {earlier[key]}"
+    points = []
+    for q in earlier["points"]:
+        p, ours = rows[q["index"]]
+        assert np.allclose(p, q["position"], atol=1e-6), f"point {q['index']} moved"
+        points.append(dict(q, ours_lux=ours, relative_error=ours / q["mitsuba_lux"] - 1.0))
+    out = {k: v for k, v in earlier.items() if k != "ours"}
+    out.update(ours_grids_json=ours_stats, summary=summarize(points, rows), points=points,
+               mitsuba_from=os.path.basename(args.mitsuba_from))
+    return out
+
+
+def summarize(points, rows):
+    """The errors over the measured points, and our statistics over all of them."""
     err = np.array([q["relative_error"] for q in points])
     worst = points[int(np.argmax(np.abs(err)))]
     m_lux = np.array([q["mitsuba_lux"] for q in points])
@@ -285,27 +339,7 @@ def main():
         "minimum_ours_lux_all_points": float(all_ours.min()),
         "maximum_ours_lux_all_points": float(all_ours.max()),
     }
-    print(json.dumps({
-        "scene": os.path.relpath(args.scene, HERE.parent.parent),
-        "csv": os.path.basename(args.csv),
-        "normal": normal,
-        "ours_grids_json": ours_stats,
-        "mitsuba": mi.__version__,
-        "variant": args.variant,
-        "integrator": {"type": "path", "max_depth": args.max_depth, "rr_depth": args.rr_depth},
-        "sky_bitmap": [args.sky_width, args.sky_height],
-        "meter_side": args.meter,
-        "spp_per_pass": args.spp,
-        "min_passes": args.min_passes,
-        "max_passes": args.max_passes,
-        "target_relative_standard_error": args.target,
-        "stride": args.stride,
-        "sky_check": check,
-        "mitsuba_seconds": time.time() - start,
-        "mitsuba_measure_seconds": measure_seconds,
-        "summary": summary,
-        "points": points,
-    }, indent=1))
+    return summary
 
 
 if __name__ == "__main__":
