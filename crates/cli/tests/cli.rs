@@ -878,6 +878,7 @@ fn help_states_every_default() {
         "--plot",
         "--export",
         "--grids",
+        "--false-colour",
         "--max-element-area",
         "--checkpoint",
         "--resume",

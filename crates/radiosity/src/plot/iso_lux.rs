@@ -4,9 +4,10 @@
 //! The plan is drawn in the grid's own frame: the first axis runs right, the second down, the
 //! origin corner at the top left, at one scale for both axes. Each cell is filled with the colour
 //! of its point's illuminance on a linear scale from blue (E_min) through cyan, green and yellow
-//! to red (E_max). The iso-lux lines are those of the "nice" levels 1, 2 or 5 × 10^k apart that
-//! cut the range into five to ten steps, traced by *marching squares* (Lorensen & Cline's
-//! marching cubes in two dimensions): on each square of four neighbouring points, a level
+//! to red (E_max), the colour map of every false-colour plot and picture
+//! ([`crate::color::scale`]). The iso-lux lines are those of the "nice" levels 1, 2 or 5 × 10^k
+//! apart that cut the range into five to ten steps, traced by *marching squares* (Lorensen &
+//! Cline's marching cubes in two dimensions): on each square of four neighbouring points, a level
 //! crosses every edge whose ends lie on either side of it, at the point linear interpolation
 //! puts it, and the crossings are joined in pairs; where the four corners alternate (a saddle),
 //! the mean of the four decides which pairs join.
@@ -14,6 +15,7 @@
 use std::fmt::Write as _;
 
 use super::escape;
+use crate::color::scale::{hex, label, levels};
 use crate::grids::rounded;
 
 /// Largest width and height of the plan itself, SVG user units (pixels).
@@ -21,15 +23,6 @@ const PLAN: (f64, f64) = (560.0, 420.0);
 
 /// Margins: left, right (the legend), top (the title), bottom (the axis lengths).
 const MARGIN: (f64, f64, f64, f64) = (24.0, 120.0, 56.0, 40.0);
-
-/// The colour map's stops, from E_min to E_max.
-const STOPS: [[f64; 3]; 5] = [
-    [0.19, 0.27, 0.85],
-    [0.10, 0.75, 0.85],
-    [0.30, 0.80, 0.25],
-    [0.98, 0.85, 0.15],
-    [0.85, 0.15, 0.10],
-];
 
 /// What a plan shows: a grid of n_a × n_b values at the cells' centres, row by row along the
 /// first axis, over a parallelogram whose axes are `size` long.
@@ -89,7 +82,7 @@ pub fn plan_svg(plan: &Plan) -> String {
                 top + j as f64 * ch,
                 cw + 0.2,
                 ch + 0.2,
-                colour(share(plan.lux[j * na + i], lo, hi))
+                hex(share(plan.lux[j * na + i], lo, hi))
             );
         }
     }
@@ -150,7 +143,7 @@ fn legend(svg: &mut String, origin: (f64, f64), height: f64, (lo, hi): (f64, f64
             r#"<rect x="{x:.1}" y="{:.2}" width="16" height="{:.2}" fill="{}"/>"#,
             y + height * k as f64 / f64::from(steps),
             height / f64::from(steps) + 0.2,
-            colour(t)
+            hex(t)
         );
     }
     let _ = writeln!(
@@ -178,55 +171,6 @@ fn share(value: f64, lo: f64, hi: f64) -> f64 {
     } else {
         0.0
     }
-}
-
-/// The colour map at `t` ∈ [0, 1], as `#rrggbb`.
-fn colour(t: f64) -> String {
-    let x = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f64;
-    let k = (x.floor() as usize).min(STOPS.len() - 2);
-    let f = x - k as f64;
-    let c: Vec<u8> = (0..3)
-        .map(|i| ((STOPS[k][i] * (1.0 - f) + STOPS[k + 1][i] * f) * 255.0).round() as u8)
-        .collect();
-    format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
-}
-
-/// The contour levels strictly inside (lo, hi): multiples of a step of 1, 2 or 5 × 10^k that
-/// makes five to ten steps of the range.
-#[must_use]
-pub fn levels(lo: f64, hi: f64) -> Vec<f64> {
-    let range = hi - lo;
-    if !(range > 0.0 && range.is_finite()) {
-        return Vec::new();
-    }
-    // step = m · 10^e; a level k · step is computed as the integer k·m scaled by an exact
-    // power of ten, so that 0.35 comes out as the double nearest 0.35, not 7 × 0.05.
-    let e = (range / 10.0).log10().floor() as i32;
-    let base = 10f64.powi(e);
-    let m = [1i64, 2, 5, 10]
-        .into_iter()
-        .find(|&m| range / (m as f64 * base) <= 10.0)
-        .unwrap_or(10);
-    let value = |k: i64| {
-        let n = (k * m) as f64;
-        if e < 0 {
-            n / 10f64.powi(-e)
-        } else {
-            n * base
-        }
-    };
-    let first = (lo / (m as f64 * base)).floor() as i64 + 1;
-    (first..)
-        .map(value)
-        .take_while(|&v| v < hi)
-        .filter(|&v| v > lo)
-        .collect()
-}
-
-/// A level's label: as many decimals as its step needs.
-fn label(level: f64) -> String {
-    let text = format!("{level:.3}");
-    text.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 /// The segments of the iso-line at `level` through the `na` × `nb` values (row by row), in
@@ -280,24 +224,6 @@ pub fn contour(values: &[f64], na: usize, nb: usize, level: f64) -> Vec<((f64, f
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn levels_are_nice_steps_inside_the_range() {
-        assert_eq!(
-            levels(0.0, 100.0),
-            vec![10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 90.0]
-        );
-        assert_eq!(
-            levels(212.0, 488.0),
-            vec![250.0, 300.0, 350.0, 400.0, 450.0]
-        );
-        assert_eq!(
-            levels(0.31, 0.74),
-            vec![0.35, 0.4, 0.45, 0.5, 0.55, 0.6, 0.65, 0.7]
-        );
-        assert!(levels(5.0, 5.0).is_empty());
-        assert!(levels(f64::NAN, 1.0).is_empty());
-    }
 
     /// E = 10·i + j on a 6 × 3 grid: the line of level L is where 10 i + j = L, a straight
     /// line crossing each square's horizontal edges at i = (L − j)/10.
