@@ -25,7 +25,8 @@ const PLAN: (f64, f64) = (560.0, 420.0);
 const MARGIN: (f64, f64, f64, f64) = (24.0, 120.0, 56.0, 40.0);
 
 /// What a plan shows: a grid of n_a × n_b values at the cells' centres, row by row along the
-/// first axis, over a parallelogram whose axes are `size` long.
+/// first axis, over a parallelogram whose axes are `size` long; NaN where a cell has no point
+/// (beside the faces of a grid `on` an object), left empty.
 #[derive(Clone, Copy, Debug)]
 pub struct Plan<'a> {
     /// The title (the grid's name).
@@ -61,7 +62,8 @@ pub fn plan_svg(plan: &Plan) -> String {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
             (a.min(x), b.max(x))
         });
-    let mean = plan.lux.iter().sum::<f64>() / plan.lux.len().max(1) as f64;
+    let measured: Vec<f64> = plan.lux.iter().copied().filter(|v| !v.is_nan()).collect();
+    let mean = measured.iter().sum::<f64>() / measured.len().max(1) as f64;
     let _ = writeln!(
         svg,
         r#"<text x="{left}" y="22" font-size="15">{}</text><text x="{left}" y="42">E_avg {} lx, E_min {} lx, E_max {} lx, U₀ {:.2}</text>"#,
@@ -75,6 +77,9 @@ pub fn plan_svg(plan: &Plan) -> String {
     let (cw, ch) = (w / na as f64, h / nb as f64);
     for j in 0..nb {
         for i in 0..na {
+            if plan.lux[j * na + i].is_nan() {
+                continue;
+            }
             let _ = writeln!(
                 svg,
                 r#"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="{}"/>"#,
@@ -174,7 +179,8 @@ fn share(value: f64, lo: f64, hi: f64) -> f64 {
 }
 
 /// The segments of the iso-line at `level` through the `na` × `nb` values (row by row), in
-/// point coordinates (i, j): marching squares (module docs).
+/// point coordinates (i, j): marching squares (module docs); squares with a NaN corner have
+/// none.
 #[must_use]
 pub fn contour(values: &[f64], na: usize, nb: usize, level: f64) -> Vec<((f64, f64), (f64, f64))> {
     let v = |i: usize, j: usize| values[j * na + i];
@@ -184,6 +190,9 @@ pub fn contour(values: &[f64], na: usize, nb: usize, level: f64) -> Vec<((f64, f
             // Corners counter-clockwise from (i, j); edge k joins corner k and corner k + 1.
             let corners = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
             let value = corners.map(|(a, b)| v(a, b));
+            if value.iter().any(|x| x.is_nan()) {
+                continue;
+            }
             let above = value.map(|x| x >= level);
             let crossing = |k: usize| {
                 let (a, b) = (k, (k + 1) % 4);
@@ -244,6 +253,23 @@ mod tests {
                 assert!((10.0 * i + j - 25.0).abs() < 1e-9, "({i}, {j})");
             }
         }
+    }
+
+    /// Cells without a value (NaN) are left empty and no line crosses their squares.
+    #[test]
+    fn holes_are_left_empty() {
+        let lux = [100.0, 200.0, f64::NAN, 300.0];
+        assert!(contour(&lux, 2, 2, 150.0).is_empty());
+        let plan = Plan {
+            name: "l",
+            lux: &lux,
+            cells: (2, 2),
+            size: (1.0, 1.0),
+            unit: "m",
+        };
+        let svg = plan_svg(&plan);
+        assert!(!svg.contains("NaN"), "{svg}");
+        assert!(svg.contains("E_avg 200 lx"), "{svg}");
     }
 
     /// A saddle is cut into two segments that never cross, and a level outside the values
