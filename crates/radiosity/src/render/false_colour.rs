@@ -14,8 +14,8 @@
 //!
 //! The values are computed by [`super::evaluated::measured`] at the points of the evaluated
 //! picture: each pixel holds the mean over the part of it that surfaces cover, and no value
-//! where they cover less than half of it (the background, or the back of a one-sided surface
-//! for illuminance). A [`Measurement`] becomes
+//! where they cover less than half of it (the background; for illuminance also the back of a
+//! one-sided surface and a sky's far tiles). A [`Measurement`] becomes
 //!
 //! - [`Measurement::picture`]: the colour of each value on a [`Scale`] (no value: black), with
 //!   the legend in a white strip at the right — a colour bar from the lower to the upper end,

@@ -18,7 +18,8 @@
 //! the costly terms are evaluated once per pixel and surface side, each ray adds its own
 //! interpolated far part. A pixel holds the mean over the rays that meet a surface, or no
 //! value where they are fewer than half of its weight (the background; for illuminance also
-//! the back of a one-sided surface, which has no light of its own).
+//! the back of a one-sided surface, which has no light of its own, and a sky's far tiles, whose
+//! illuminance means nothing: the sky's luminance is the picture's there).
 
 use super::prepare;
 use crate::color::luminance;
@@ -72,7 +73,10 @@ pub fn measure(
         let (sum, covered) = match quantity {
             Quantity::Luminance => evaluated_sum(&world, &evaluation, settings, probes),
             Quantity::Lux => {
-                let (groups, _) = group(&world, probes, |_| true);
+                // Every surface of the scene; the tiles of a distant sky are its background.
+                let (groups, _) = group(&world, probes, |hit| {
+                    !mesh.patches[world.patch(hit.triangle) as usize].distant
+                });
                 let mut sum = Rgb::ZERO;
                 let mut covered = 0;
                 for mut g in groups {
@@ -312,6 +316,39 @@ vertices = [[-0.25, 1, -0.25], [0.25, 1, -0.25], [0.25, 1, 0.25], [-0.25, 1, 0.2
         assert!(
             (lux / read - 1.0).abs() < 0.01,
             "black floor: {lux} lx evaluated, {read} lx metered"
+        );
+    }
+
+    /// Under a CIE sky, the pixels that see the sky's far tiles above the horizon have no
+    /// illuminance (it would be the tiles' own, meaningless) but the sky's luminance; the
+    /// ground open to the sky reads its illuminance E_h = 7π L_z / 9 within the tiles' 1 %.
+    #[test]
+    fn the_sky_has_a_luminance_and_no_illuminance() {
+        let text = r#"
+[sky]
+type = "cie-overcast"
+zenith_luminance = 1000.0
+[materials.ground]
+reflectance = 0.2
+[[objects]]
+name = "ground"
+material = "ground"
+shape = "polygon"
+vertices = [[-20, 0, -20], [-20, 0, 20], [20, 0, 20], [20, 0, -20]]
+"#;
+        let scene = Scene::from_toml_str(text, Path::new("sky.toml")).expect("loads");
+        let solved = pipeline::solve(scene, &Settings::default(), &Silent).expect("solves");
+        let view = camera(Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 1.0, -5.0), 60.0);
+        let lux = measure_in(&solved, Quantity::Lux, &view, 16);
+        let luminance = measure_in(&solved, Quantity::Luminance, &view, 16);
+        // Row 2 looks above the horizon, row 13 at the ground.
+        assert_eq!(lux.get(8, 2), None, "the sky");
+        assert!(luminance.get(8, 2).is_some_and(|l| l > 0.0));
+        let ground = lux.get(8, 13).expect("the ground");
+        let exact = 7.0 * PI * 1000.0 / 9.0;
+        assert!(
+            (ground / exact - 1.0).abs() < 0.01,
+            "{ground} lx against {exact}"
         );
     }
 
