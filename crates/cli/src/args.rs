@@ -4,9 +4,11 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use radiosity::color::scale::Spacing;
 use radiosity::formfactor;
 use radiosity::io::gltf::VertexColours;
 use radiosity::pipeline::DisplayKind;
+use radiosity::render::false_colour::Quantity as FalseColour;
 use radiosity::render::ModeKind;
 
 use crate::progress::Reporting;
@@ -246,9 +248,38 @@ pub struct RenderArgs {
     /// With --mode local: no shadow rays (the lecture's plain "OpenGL rendering").
     #[arg(long)]
     pub no_shadows: bool,
+    /// Instead of the picture, each pixel shows in false colour a quantity of the surface seen
+    /// through it: `lux`, the illuminance on it, or `luminance`, the luminance it sends to the
+    /// eye (cd/m²); both read in these units when the emitters' radiance is given in cd/m².
+    /// Computed as the picture (--mode final) computes its light. A .png gets the colours and
+    /// a legend strip at the right (the colour bar with its levels and the unit); .exr, .hdr
+    /// and .pfm hold the values themselves on all three channels (0 where no surface is seen).
+    #[arg(long, value_enum, value_name = "QUANTITY")]
+    pub false_colour: Option<FalseColour>,
+    /// With --false-colour: the colour scale, `log` (equal ratios as equal steps, as lighting
+    /// standards space their levels) or `linear` [default: log]
+    #[arg(long, value_enum, value_name = "SCALE")]
+    pub false_colour_scale: Option<Spacing>,
+    /// With --false-colour: the values at the two ends of the colour scale, MIN:MAX (values
+    /// beyond take the end colours). Default: fitted to the picture, from the nice number
+    /// 1, 2 or 5 × 10^k at or below its smallest value (at most three decades below the top;
+    /// 0 on a linear scale) to the one at or above its largest.
+    #[arg(long, value_name = "MIN:MAX", allow_hyphen_values = true, value_parser = range)]
+    pub false_colour_range: Option<(f64, f64)>,
     /// Options shared with `solve`.
     #[command(flatten)]
     pub common: CommonArgs,
+}
+
+/// Parses `MIN:MAX`: two finite numbers, the first below the second.
+fn range(text: &str) -> Result<(f64, f64), String> {
+    let bad = || format!("`{text}` is not MIN:MAX, two finite numbers with MIN below MAX");
+    let (lo, hi) = text.split_once(':').ok_or_else(bad)?;
+    let number = |t: &str| t.trim().parse::<f64>().ok().filter(|x| x.is_finite());
+    match (number(lo), number(hi)) {
+        (Some(lo), Some(hi)) if lo < hi => Ok((lo, hi)),
+        _ => Err(bad()),
+    }
 }
 
 /// `radiosity compare`.
@@ -589,6 +620,15 @@ mod tests {
         assert_eq!(parse_bytes("1000000"), Ok(1_000_000));
         for bad in ["", "G", "-1G", "0", "1X", "nanG", "1e30T"] {
             assert!(parse_bytes(bad).is_err(), "{bad:?} accepted");
+        }
+    }
+
+    #[test]
+    fn ranges_are_two_increasing_numbers() {
+        assert_eq!(range("50:2000"), Ok((50.0, 2000.0)));
+        assert_eq!(range("-1:0.5"), Ok((-1.0, 0.5)));
+        for bad in ["", "100", "5:5", "9:1", "a:b", "1:inf", "1:2:3"] {
+            assert!(range(bad).is_err(), "{bad:?} accepted");
         }
     }
 

@@ -27,6 +27,7 @@ use radiosity::Scene;
 use radiosity::{grids, solve};
 
 use crate::args::{CommonArgs, FrameArgs, RenderArgs, SolveArgs, ViewArgs};
+use crate::false_colour;
 use crate::interrupt::{stop_flag, Interrupted};
 use crate::picture;
 use crate::settings;
@@ -45,6 +46,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if args.no_shadows && args.mode != ModeKind::Local {
         bail!("--no-shadows applies to --mode local only");
     }
+    false_colour::scale(args)?;
     if args.mode == ModeKind::Local {
         let common = &args.common;
         for (given, flag) in [
@@ -141,6 +143,31 @@ fn render_job(args: &RenderArgs) -> Result<()> {
 
     let render_start = Instant::now();
     let mut batch = Batch::new();
+    if let Some(quantity) = args.false_colour {
+        // A false-colour picture has no quick form: after a Ctrl-C it is still measured, from
+        // the solution so far.
+        let pictures = false_colour::pictures(args, quantity, (&solved, &camera, &raster))?;
+        say(common, &pictures.note);
+        for path in &outputs {
+            if may_write(path, &solved, common) {
+                let image = pictures.for_path(path);
+                stage(&mut batch, path, |tmp| Ok(write_image(tmp, image, 0.0)?))?;
+            }
+        }
+        let render_seconds = render_start.elapsed().as_secs_f64();
+        let aspect = raster.width as f32 / raster.height.max(1) as f32;
+        return finish(
+            &solved,
+            common,
+            Some((&camera, aspect)),
+            Outputs {
+                batch,
+                start,
+                load_seconds: load,
+                render_seconds,
+            },
+        );
+    }
     // After a Ctrl-C the run ends now: a ray-traced or evaluated picture takes seconds to
     // minutes, so an interrupted solve is pictured the quick way, by its interpolated lit mesh
     // at the default samples.

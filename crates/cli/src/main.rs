@@ -4,6 +4,8 @@
 //! radiosity render [SCENE] [-o out.png]... [--stats stats.json] [--export lit.ply]
 //! radiosity solve SCENE --export lit.ply --stats stats.json
 //! radiosity render SCENE --mode local|radiosity|raytrace [--gather N]
+//! radiosity render SCENE --false-colour lux|luminance [--false-colour-scale log|linear]
+//!     [--false-colour-range MIN:MAX] -o lux.png -o lux.pfm
 //! radiosity compare SCENE -o compare.png
 //! radiosity scenes
 //! radiosity hemicube SCENE --element ID -o hemicube.png [--resolution N] [--heatmap]
@@ -28,6 +30,7 @@ mod args;
 mod compare;
 mod corpus;
 mod curve;
+mod false_colour;
 mod hemicube;
 mod info;
 mod interrupt;

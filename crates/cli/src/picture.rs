@@ -4,6 +4,7 @@
 use anyhow::Result;
 use radiosity::mesh::{display, Mesh, Subdivision};
 use radiosity::pipeline::Solved;
+use radiosity::render::false_colour::{Measurement, Quantity};
 use radiosity::render::local::{self, LocalSettings};
 use radiosity::render::raytrace::{RaytraceSettings, Watch};
 use radiosity::render::{self, Image, ModeKind, RasterSettings};
@@ -40,6 +41,26 @@ pub fn render_mode(
     watched(reporting, |watch| {
         solved.render(&mode, camera, raster, watch)
     })
+}
+
+/// The false-colour measurement of `quantity` in `solved` seen by `camera`
+/// ([`Solved::measure`]), reporting progress and stopping on Ctrl-C as [`render_mode`] does.
+pub fn measure(
+    solved: &Solved,
+    camera: &Camera,
+    quantity: Quantity,
+    raster: &RasterSettings,
+    reporting: Reporting,
+) -> Result<Measurement> {
+    let progress = reporting.on_stderr();
+    let stop = stop_flag();
+    let watch = Watch {
+        progress: &progress,
+        stop: Some(&stop),
+    };
+    solved
+        .measure(quantity, camera, raster, &watch)
+        .ok_or_else(|| Interrupted("interrupted while rendering: wrote nothing".into()).into())
 }
 
 /// Local illumination of `scene` without a radiosity solve: its patches unsubdivided (the local

@@ -238,7 +238,17 @@ fn render_writes_png_and_stats_with_the_contract_keys() {
     // refined for display and `timings.display` is left out.
     let timings = ["load", "mesh", "form_factors", "solve", "render", "total"];
     assert_eq!(keys(&stats["timings"]), set(&timings));
-    assert_eq!(keys(&stats["energy"]), set(&["emitted", "absorbed"]));
+    assert_eq!(
+        keys(&stats["energy"]),
+        set(&[
+            "emitted",
+            "absorbed",
+            "emitted_w",
+            "absorbed_w",
+            "emitted_lm",
+            "absorbed_lm",
+        ])
+    );
     for list in ["objects", "materials"] {
         let items = stats[list].as_array().expect("list");
         assert!(!items.is_empty(), "{list} is empty");
@@ -878,6 +888,7 @@ fn help_states_every_default() {
         "--plot",
         "--export",
         "--grids",
+        "--false-colour",
         "--max-element-area",
         "--checkpoint",
         "--resume",

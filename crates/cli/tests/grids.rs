@@ -388,3 +388,83 @@ fn the_seed_draws_the_meters_rays() {
     };
     assert_ne!(analytic("d", "1"), analytic("e", "2"));
 }
+
+/// A desk (a box) under a lamp in a room of grey walls: a grid `on = "desk"` reads as the
+/// `corners` grid of the desk's top lifted 1 mm (the same points, to f32 rounding, and so the
+/// same readings: the solve does not depend on the grid, and each grid's rays are keyed by its
+/// points' order), and grids.json reports it alike.
+#[test]
+fn a_grid_on_a_box_top_reads_as_the_corners_grid_of_that_top() {
+    let room = r#"
+[materials.grey]
+reflectance = 0.5
+[materials.glow]
+emission = 50.0
+
+[[objects]]
+name = "floor"
+material = "grey"
+shape = "polygon"
+vertices = [[-2.0, 0.0, -2.0], [-2.0, 0.0, 2.0], [2.0, 0.0, 2.0], [2.0, 0.0, -2.0]]
+
+[[objects]]
+name = "wall"
+material = "grey"
+shape = "polygon"
+vertices = [[-2.0, 0.0, -2.0], [2.0, 0.0, -2.0], [2.0, 2.5, -2.0], [-2.0, 2.5, -2.0]]
+
+[[objects]]
+name = "desk"
+material = "grey"
+shape = "box"
+min = [-0.8, 0.0, -1.0]
+max = [0.8, 0.75, -0.2]
+
+[[objects]]
+name = "lamp"
+material = "glow"
+shape = "polygon"
+vertices = [[-0.5, 2.5, -0.5], [0.5, 2.5, -0.5], [0.5, 2.5, 0.5], [-0.5, 2.5, 0.5]]
+"#;
+    let on = format!("{room}\n[[grids]]\nname = \"desk\"\non = \"desk\"\nspacing = 0.2\n");
+    let corners = format!(
+        "{room}\n[[grids]]\nname = \"desk\"\n\
+         corners = [[-0.8, 0.751, -1.0], [0.8, 0.751, -1.0], [-0.8, 0.751, -0.2]]\nspacing = 0.2\n"
+    );
+    let read = |name: &str, scene: &str| {
+        let dir = scratch(name);
+        let json = solve_with_grids(&dir, scene);
+        let csv = fs::read_to_string(dir.join("lux/desk.csv")).unwrap();
+        let mut rows: Vec<[f64; 4]> = csv
+            .lines()
+            .skip(1)
+            .map(|l| {
+                let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+                [v[0], v[1], v[2], v[3]]
+            })
+            .collect();
+        rows.sort_by(|a, b| (a[2], a[0]).partial_cmp(&(b[2], b[0])).unwrap());
+        (json, rows)
+    };
+    let (json_on, on) = read("grids-on-desk", &on);
+    let (json_corners, corners) = read("grids-on-desk-corners", &corners);
+    assert_eq!(on.len(), 8 * 4, "8 × 4 cells of 0.2 on the 1.6 × 0.8 top");
+    assert_eq!(on.len(), corners.len());
+    for (a, b) in on.iter().zip(&corners) {
+        for k in 0..3 {
+            assert!((a[k] - b[k]).abs() < 1e-5, "{a:?} {b:?}");
+        }
+        assert!((a[3] / b[3] - 1.0).abs() < 1e-3, "{a:?} {b:?}");
+    }
+    for key in ["points", "normal"] {
+        assert_eq!(
+            json_on["grids"][0][key], json_corners["grids"][0][key],
+            "{key}"
+        );
+    }
+    let (a, b) = (
+        json_on["grids"][0]["average"].as_f64().unwrap(),
+        json_corners["grids"][0]["average"].as_f64().unwrap(),
+    );
+    assert!((a / b - 1.0).abs() < 1e-3, "E_avg {a} against {b}");
+}

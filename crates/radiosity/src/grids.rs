@@ -38,6 +38,9 @@ pub struct Reading {
     pub normal: Vec3,
     /// The points (scene coordinates), row by row along the grid's first axis.
     pub points: Vec<Vec3>,
+    /// The cell of each point (i along the first axis, j along the second): every cell of a
+    /// grid of `corners`, those on the faces of an `on` grid.
+    pub cell: Vec<(u32, u32)>,
     /// Cells along the first and the second axis.
     pub cells: (u32, u32),
     /// The lengths of the two axes (scene units).
@@ -144,8 +147,11 @@ fn daylight_only(scene: &Scene) -> bool {
 /// The reading of one grid; `seed` keeps its rays apart from the other grids'. `sky` is the
 /// unobstructed horizontal illuminance of the scene's CIE sky, if it has one.
 fn read(meter: &meter::Meter<'_>, grid: &Grid, seed: u64, sky: Option<f64>) -> Reading {
-    let points = grid.points();
-    let irradiance = meter.irradiance(&points, grid.normal, seed);
+    let layout = grid.layout();
+    let facing: Vec<(Vec3, Vec3)> = layout.iter().map(|p| (p.position, p.normal)).collect();
+    let irradiance = meter.irradiance_facing(&facing, seed);
+    let points = layout.iter().map(|p| p.position).collect();
+    let cell = layout.iter().map(|p| p.cell).collect();
     let lux: Vec<f64> = irradiance.iter().map(|&e| luminance(e)).collect();
     let daylight_factor = sky.filter(|&e| e > 0.0).map(|sky| {
         let df: Vec<f64> = lux.iter().map(|&e| 100.0 * e / sky).collect();
@@ -157,6 +163,7 @@ fn read(meter: &meter::Meter<'_>, grid: &Grid, seed: u64, sky: Option<f64>) -> R
         normal: grid.normal,
         statistics: Statistics::of(&lux),
         points,
+        cell,
         cells: grid.cells(),
         size: (
             f64::from(grid.first.length()),

@@ -12,6 +12,9 @@ use crate::mesh::{display, LitMesh, Mesh, Subdivision};
 use crate::progress::{Progress, Work};
 use crate::registry::registry;
 use crate::render::display_refinement;
+use crate::render::evaluated::measured;
+use crate::render::false_colour::{Measurement, Quantity};
+use crate::render::raytrace::RaytraceSettings;
 use crate::render::{Image, Mode, RasterSettings, Watch};
 use crate::scene::Camera;
 use crate::solve::checkpoint::{hash_text, Control};
@@ -293,6 +296,22 @@ impl Solved {
     ) -> Option<Image> {
         let (scene, mesh, lit) = (&self.scene, &self.mesh, &self.lit);
         mode.render(scene, mesh, lit, &self.solution, camera, raster, watch)
+    }
+
+    /// The false-colour measurement of `quantity` at the surface seen through each pixel of
+    /// `camera`'s picture ([`crate::render::evaluated::measured`]), at the size and samples of
+    /// `raster`; `None` when `watch` was told to stop first.
+    #[must_use]
+    pub fn measure(
+        &self,
+        quantity: Quantity,
+        camera: &Camera,
+        raster: &RasterSettings,
+        watch: &Watch,
+    ) -> Option<Measurement> {
+        let solved = (&self.scene, &self.mesh, &self.solution);
+        let settings = RaytraceSettings::default();
+        measured::measure(solved, quantity, camera, raster, &settings, watch)
     }
 
     /// The statistics of `--stats` ([`crate::stats`]). `timings` supplies the stages measured outside the

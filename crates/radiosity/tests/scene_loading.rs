@@ -493,3 +493,56 @@ fn units_are_read_and_an_unknown_one_is_named_with_its_line() {
     let text = e.to_string();
     assert!(text.contains("units") && text.contains("furlong"), "{text}");
 }
+
+/// `on = "desk"`: the grid covers the top of a desk box turned by 30° about y, its first axis
+/// along the desk's long side, every point 1 mm above the top (in the scene's units: here
+/// millimetres), facing up; the sides and the bottom carry none.
+#[test]
+fn a_grid_on_a_turned_desk_covers_its_top() {
+    let text = r#"
+units = "mm"
+[materials.wood]
+reflectance = 0.4
+[materials.lamp]
+emission = 10.0
+[[objects]]
+name = "desk"
+material = "wood"
+shape = "box"
+min = [-800, 0, -400]
+max = [800, 750, 400]
+transform = { rotate = [0, 30, 0], translate = [100, 0, 200] }
+[[objects]]
+name = "lamp"
+material = "lamp"
+shape = "polygon"
+vertices = [[-500, 2500, -500], [500, 2500, -500], [500, 2500, 500], [-500, 2500, 500]]
+[[grids]]
+name = "top"
+on = "desk"
+spacing = 200
+"#;
+    let scene = Scene::from_toml_str(text, Path::new("desk.toml")).expect("loads");
+    let grid = &scene.grids[0];
+    assert_eq!(grid.cells(), (8, 4));
+    assert!(
+        (grid.first.length() - 1600.0).abs() < 0.01,
+        "{}",
+        grid.first
+    );
+    let points = grid.layout();
+    assert_eq!(points.len(), 32);
+    // The desk's own frame: turned back by 30° about y around its translation.
+    let (s, c) = 30f32.to_radians().sin_cos();
+    for p in &points {
+        assert!((p.position.y - 751.0).abs() < 1e-3, "{p:?}");
+        assert!((p.normal - Vec3::Y).length() < 1e-5);
+        let d = p.position - Vec3::new(100.0, 0.0, 200.0);
+        let (x, z) = (c * d.x - s * d.z, s * d.x + c * d.z);
+        // Cell centres: 100 mm in from the edges at most, inside the 1600 × 800 top.
+        assert!(
+            x.abs() < 800.0 - 99.9 && z.abs() < 400.0 - 99.9,
+            "({x}, {z})"
+        );
+    }
+}

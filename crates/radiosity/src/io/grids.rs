@@ -57,9 +57,16 @@ pub fn stage(
         let file = format!("{}.csv", r.name);
         let tmp = batch.stage(&dir.join(&file))?;
         std::fs::write(&tmp, csv(r))?;
+        // The plan's cells row by row; those without a point (beside an `on` grid's faces)
+        // are holes.
+        let (na, nb) = (r.cells.0 as usize, r.cells.1 as usize);
+        let mut cells = vec![f64::NAN; na * nb];
+        for (&(i, j), &lux) in r.cell.iter().zip(&r.lux) {
+            cells[j as usize * na + i as usize] = lux;
+        }
         let plan = Plan {
             name: &r.name,
-            lux: &r.lux,
+            lux: &cells,
             cells: r.cells,
             size: r.size,
             unit: length_unit,
@@ -110,6 +117,7 @@ mod tests {
             name: "desk".into(),
             normal: Vec3::Y,
             points: vec![Vec3::new(0.25, 0.8, 0.5), Vec3::new(0.75, 0.8, 0.5)],
+            cell: vec![(0, 0), (1, 0)],
             irradiance: vec![Rgb::splat(100.0), Rgb::splat(300.0)],
             statistics: Statistics::of(&lux),
             lux,

@@ -4,9 +4,10 @@
 //! The plan is drawn in the grid's own frame: the first axis runs right, the second down, the
 //! origin corner at the top left, at one scale for both axes. Each cell is filled with the colour
 //! of its point's illuminance on a linear scale from blue (E_min) through cyan, green and yellow
-//! to red (E_max). The iso-lux lines are those of the "nice" levels 1, 2 or 5 × 10^k apart that
-//! cut the range into five to ten steps, traced by *marching squares* (Lorensen & Cline's
-//! marching cubes in two dimensions): on each square of four neighbouring points, a level
+//! to red (E_max), the colour map of every false-colour plot and picture
+//! ([`crate::color::scale`]). The iso-lux lines are those of the "nice" levels 1, 2 or 5 × 10^k
+//! apart that cut the range into five to ten steps, traced by *marching squares* (Lorensen &
+//! Cline's marching cubes in two dimensions): on each square of four neighbouring points, a level
 //! crosses every edge whose ends lie on either side of it, at the point linear interpolation
 //! puts it, and the crossings are joined in pairs; where the four corners alternate (a saddle),
 //! the mean of the four decides which pairs join.
@@ -14,6 +15,7 @@
 use std::fmt::Write as _;
 
 use super::escape;
+use crate::color::scale::{hex, label, levels};
 use crate::grids::rounded;
 
 /// Largest width and height of the plan itself, SVG user units (pixels).
@@ -22,17 +24,9 @@ const PLAN: (f64, f64) = (560.0, 420.0);
 /// Margins: left, right (the legend), top (the title), bottom (the axis lengths).
 const MARGIN: (f64, f64, f64, f64) = (24.0, 120.0, 56.0, 40.0);
 
-/// The colour map's stops, from E_min to E_max.
-const STOPS: [[f64; 3]; 5] = [
-    [0.19, 0.27, 0.85],
-    [0.10, 0.75, 0.85],
-    [0.30, 0.80, 0.25],
-    [0.98, 0.85, 0.15],
-    [0.85, 0.15, 0.10],
-];
-
 /// What a plan shows: a grid of n_a × n_b values at the cells' centres, row by row along the
-/// first axis, over a parallelogram whose axes are `size` long.
+/// first axis, over a parallelogram whose axes are `size` long; NaN where a cell has no point
+/// (beside the faces of a grid `on` an object), left empty.
 #[derive(Clone, Copy, Debug)]
 pub struct Plan<'a> {
     /// The title (the grid's name).
@@ -68,7 +62,8 @@ pub fn plan_svg(plan: &Plan) -> String {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
             (a.min(x), b.max(x))
         });
-    let mean = plan.lux.iter().sum::<f64>() / plan.lux.len().max(1) as f64;
+    let measured: Vec<f64> = plan.lux.iter().copied().filter(|v| !v.is_nan()).collect();
+    let mean = measured.iter().sum::<f64>() / measured.len().max(1) as f64;
     let _ = writeln!(
         svg,
         r#"<text x="{left}" y="22" font-size="15">{}</text><text x="{left}" y="42">E_avg {} lx, E_min {} lx, E_max {} lx, U₀ {:.2}</text>"#,
@@ -82,6 +77,9 @@ pub fn plan_svg(plan: &Plan) -> String {
     let (cw, ch) = (w / na as f64, h / nb as f64);
     for j in 0..nb {
         for i in 0..na {
+            if plan.lux[j * na + i].is_nan() {
+                continue;
+            }
             let _ = writeln!(
                 svg,
                 r#"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="{}"/>"#,
@@ -89,7 +87,7 @@ pub fn plan_svg(plan: &Plan) -> String {
                 top + j as f64 * ch,
                 cw + 0.2,
                 ch + 0.2,
-                colour(share(plan.lux[j * na + i], lo, hi))
+                hex(share(plan.lux[j * na + i], lo, hi))
             );
         }
     }
@@ -150,7 +148,7 @@ fn legend(svg: &mut String, origin: (f64, f64), height: f64, (lo, hi): (f64, f64
             r#"<rect x="{x:.1}" y="{:.2}" width="16" height="{:.2}" fill="{}"/>"#,
             y + height * k as f64 / f64::from(steps),
             height / f64::from(steps) + 0.2,
-            colour(t)
+            hex(t)
         );
     }
     let _ = writeln!(
@@ -180,57 +178,9 @@ fn share(value: f64, lo: f64, hi: f64) -> f64 {
     }
 }
 
-/// The colour map at `t` ∈ [0, 1], as `#rrggbb`.
-fn colour(t: f64) -> String {
-    let x = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f64;
-    let k = (x.floor() as usize).min(STOPS.len() - 2);
-    let f = x - k as f64;
-    let c: Vec<u8> = (0..3)
-        .map(|i| ((STOPS[k][i] * (1.0 - f) + STOPS[k + 1][i] * f) * 255.0).round() as u8)
-        .collect();
-    format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
-}
-
-/// The contour levels strictly inside (lo, hi): multiples of a step of 1, 2 or 5 × 10^k that
-/// makes five to ten steps of the range.
-#[must_use]
-pub fn levels(lo: f64, hi: f64) -> Vec<f64> {
-    let range = hi - lo;
-    if !(range > 0.0 && range.is_finite()) {
-        return Vec::new();
-    }
-    // step = m · 10^e; a level k · step is computed as the integer k·m scaled by an exact
-    // power of ten, so that 0.35 comes out as the double nearest 0.35, not 7 × 0.05.
-    let e = (range / 10.0).log10().floor() as i32;
-    let base = 10f64.powi(e);
-    let m = [1i64, 2, 5, 10]
-        .into_iter()
-        .find(|&m| range / (m as f64 * base) <= 10.0)
-        .unwrap_or(10);
-    let value = |k: i64| {
-        let n = (k * m) as f64;
-        if e < 0 {
-            n / 10f64.powi(-e)
-        } else {
-            n * base
-        }
-    };
-    let first = (lo / (m as f64 * base)).floor() as i64 + 1;
-    (first..)
-        .map(value)
-        .take_while(|&v| v < hi)
-        .filter(|&v| v > lo)
-        .collect()
-}
-
-/// A level's label: as many decimals as its step needs.
-fn label(level: f64) -> String {
-    let text = format!("{level:.3}");
-    text.trim_end_matches('0').trim_end_matches('.').to_string()
-}
-
 /// The segments of the iso-line at `level` through the `na` × `nb` values (row by row), in
-/// point coordinates (i, j): marching squares (module docs).
+/// point coordinates (i, j): marching squares (module docs); squares with a NaN corner have
+/// none.
 #[must_use]
 pub fn contour(values: &[f64], na: usize, nb: usize, level: f64) -> Vec<((f64, f64), (f64, f64))> {
     let v = |i: usize, j: usize| values[j * na + i];
@@ -240,6 +190,9 @@ pub fn contour(values: &[f64], na: usize, nb: usize, level: f64) -> Vec<((f64, f
             // Corners counter-clockwise from (i, j); edge k joins corner k and corner k + 1.
             let corners = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
             let value = corners.map(|(a, b)| v(a, b));
+            if value.iter().any(|x| x.is_nan()) {
+                continue;
+            }
             let above = value.map(|x| x >= level);
             let crossing = |k: usize| {
                 let (a, b) = (k, (k + 1) % 4);
@@ -281,24 +234,6 @@ pub fn contour(values: &[f64], na: usize, nb: usize, level: f64) -> Vec<((f64, f
 mod tests {
     use super::*;
 
-    #[test]
-    fn levels_are_nice_steps_inside_the_range() {
-        assert_eq!(
-            levels(0.0, 100.0),
-            vec![10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 90.0]
-        );
-        assert_eq!(
-            levels(212.0, 488.0),
-            vec![250.0, 300.0, 350.0, 400.0, 450.0]
-        );
-        assert_eq!(
-            levels(0.31, 0.74),
-            vec![0.35, 0.4, 0.45, 0.5, 0.55, 0.6, 0.65, 0.7]
-        );
-        assert!(levels(5.0, 5.0).is_empty());
-        assert!(levels(f64::NAN, 1.0).is_empty());
-    }
-
     /// E = 10·i + j on a 6 × 3 grid: the line of level L is where 10 i + j = L, a straight
     /// line crossing each square's horizontal edges at i = (L − j)/10.
     #[test]
@@ -318,6 +253,23 @@ mod tests {
                 assert!((10.0 * i + j - 25.0).abs() < 1e-9, "({i}, {j})");
             }
         }
+    }
+
+    /// Cells without a value (NaN) are left empty and no line crosses their squares.
+    #[test]
+    fn holes_are_left_empty() {
+        let lux = [100.0, 200.0, f64::NAN, 300.0];
+        assert!(contour(&lux, 2, 2, 150.0).is_empty());
+        let plan = Plan {
+            name: "l",
+            lux: &lux,
+            cells: (2, 2),
+            size: (1.0, 1.0),
+            unit: "m",
+        };
+        let svg = plan_svg(&plan);
+        assert!(!svg.contains("NaN"), "{svg}");
+        assert!(svg.contains("E_avg 200 lx"), "{svg}");
     }
 
     /// A saddle is cut into two segments that never cross, and a level outside the values

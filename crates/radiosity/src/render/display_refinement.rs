@@ -101,8 +101,14 @@ pub fn lit_mesh(
     settings: &Settings,
     watch: &Watch,
 ) -> Option<LitMesh> {
-    let (evaluation, averaged, far) =
-        prepare(scene, mesh, solution, settings.shadow_samples, None, watch)?;
+    let (evaluation, averaged, far) = prepare(
+        scene,
+        mesh,
+        solution,
+        (settings.shadow_samples, false),
+        None,
+        watch,
+    )?;
     let world = World::new(scene, mesh, &far);
     let refiner = Refiner {
         world: &world,

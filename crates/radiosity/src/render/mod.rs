@@ -21,11 +21,15 @@
 //! 9. [`compare`]: labelled side-by-side images of several modes.
 //! 10. [`mode`]: the [`Mode`] enum over these renderers, with the settings of each.
 //! 11. [`block_error`]: how far a picture is from a reference picture (block luminance error).
+//! 12. [`false_colour`]: illuminance or luminance at the surface seen through each pixel
+//!     ([`evaluated::measured`]) on a colour scale with a legend, drawn in [`font`].
 pub mod block_error;
 pub mod camera;
 pub mod compare;
 pub mod display_refinement;
 pub mod evaluated;
+pub mod false_colour;
+pub mod font;
 pub mod image;
 pub mod local;
 pub mod mode;

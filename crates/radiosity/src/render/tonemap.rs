@@ -44,6 +44,17 @@ pub fn linear_to_srgb(linear: f64) -> f64 {
     }
 }
 
+/// The linear value of an sRGB-encoded one (the inverse of [`linear_to_srgb`] on [0, 1]):
+/// L = V/12.92 for V ≤ 0.040 45, ((V + 0.055)/1.055)^2.4 otherwise.
+#[must_use]
+pub fn srgb_to_linear(encoded: f64) -> f64 {
+    if encoded <= 0.040_45 {
+        encoded / 12.92
+    } else {
+        ((encoded + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 /// A linear value encoded as an 8-bit sRGB code: round(255 · srgb(clamp(v, 0, 1))).
 #[must_use]
 pub fn encode_srgb8(linear: f64) -> u8 {
@@ -105,6 +116,16 @@ mod tests {
         // The two branches meet at the threshold (continuity to 1e-7).
         let t = 0.003_130_8;
         assert!((12.92 * t - (1.055 * f64::powf(t, 1.0 / 2.4) - 0.055)).abs() < 1e-7);
+    }
+
+    /// Every 8-bit code survives decoding to linear and encoding back: an image of linear
+    /// colours written at exposure 0 holds exactly the codes it was made from.
+    #[test]
+    fn srgb_codes_round_trip_through_linear() {
+        for code in 0..=255u8 {
+            let linear = srgb_to_linear(f64::from(code) / 255.0);
+            assert_eq!(encode_srgb8(linear), code);
+        }
     }
 
     #[test]

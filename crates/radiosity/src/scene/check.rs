@@ -21,7 +21,7 @@ use std::fmt;
 use glam::Vec3;
 
 use super::description::{
-    Field, LightDesc, LuminaireDesc, ObjectDesc, SceneDesc, ShapeDesc, SkyDesc, Strength,
+    Field, GridPlace, LightDesc, LuminaireDesc, ObjectDesc, SceneDesc, ShapeDesc, SkyDesc, Strength,
 };
 use super::environment::{solar, CieSkyKind};
 use super::{grid, Loc, SceneError};
@@ -239,21 +239,50 @@ pub fn check(desc: &SceneDesc) -> Result<(), SceneError> {
                 format!("grid name {name:?} cannot name its file (<name>.csv)"),
             ));
         }
-        let Ok(corners) = <[Vec3; 3]>::try_from(g.corners.value.as_slice()) else {
-            let n = g.corners.value.len();
-            return Err(fail(
-                desc,
-                &g.corners,
-                format!(
-                    "{n} corners, 3 are needed (origin, end of the first axis, end of the second)"
-                ),
-            ));
-        };
-        if let Some((fault, message)) = grid::problem(corners, g.spacing.value) {
-            return Err(match fault {
-                grid::Fault::Corners => fail(desc, &g.corners, message),
-                grid::Fault::Spacing => fail(desc, &g.spacing, message),
-            });
+        match &g.place {
+            GridPlace::Corners(c) => {
+                let Ok(corners) = <[Vec3; 3]>::try_from(c.value.as_slice()) else {
+                    let n = c.value.len();
+                    return Err(fail(
+                        desc,
+                        c,
+                        format!(
+                            "{n} corners, 3 are needed (origin, end of the first axis, end of \
+                             the second)"
+                        ),
+                    ));
+                };
+                if let Some((fault, message)) = grid::problem(corners, g.spacing.value) {
+                    return Err(match fault {
+                        grid::Fault::Corners => fail(desc, c, message),
+                        grid::Fault::Spacing => fail(desc, &g.spacing, message),
+                    });
+                }
+            }
+            GridPlace::On(on) => {
+                if let Some(message) = grid::spacing_problem(g.spacing.value) {
+                    return Err(fail(desc, &g.spacing, message));
+                }
+                if !desc.objects.iter().any(|o| o.name() == on.value) {
+                    let mut known: Vec<String> =
+                        desc.objects.iter().map(ObjectDesc::name).collect();
+                    known.sort_unstable();
+                    known.dedup();
+                    return Err(fail(
+                        desc,
+                        on,
+                        format!(
+                            "unknown object `{}` (defined: {})",
+                            on.value,
+                            if known.is_empty() {
+                                "none".to_string()
+                            } else {
+                                known.join(", ")
+                            }
+                        ),
+                    ));
+                }
+            }
         }
         if let Some(n) = &g.normal {
             if n.value.length() <= 0.0 {
@@ -264,7 +293,6 @@ pub fn check(desc: &SceneDesc) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// An error at `f`'s place and key.
 /// The direction towards the sun that `[sky]` declares: its `sun`, or the sun's position at
 /// its `latitude`, `longitude`, `date` and `time` (with `utc_offset` and `north`;
 /// [`solar`]); `None` when it declares neither.
@@ -421,7 +449,8 @@ fn check_luminaire(desc: &SceneDesc, l: &LuminaireDesc) -> Result<(), SceneError
     Ok(())
 }
 
-fn fail<T>(desc: &SceneDesc, f: &Field<T>, message: String) -> SceneError {
+/// An error at `f`'s place and key.
+pub(super) fn fail<T>(desc: &SceneDesc, f: &Field<T>, message: String) -> SceneError {
     SceneError::at(
         Loc {
             file: desc.file.clone(),

@@ -98,13 +98,22 @@ pub struct SkyDesc {
 pub struct GridDesc {
     /// `name`.
     pub name: Field<String>,
-    /// `corners`: the origin, the end of the first axis, the end of the second.
-    pub corners: Field<Vec<Vec3>>,
+    /// `corners` or `on`: where the grid lies.
+    pub place: GridPlace,
     /// `spacing`: the widest cell side, scene units.
     pub spacing: Field<f32>,
     /// `normal` of the measuring surface (default: up for a horizontal grid, else the
     /// right-hand normal).
     pub normal: Option<Field<Vec3>>,
+}
+
+/// Where a calculation grid lies: one of its two keys.
+#[derive(Clone, Debug, PartialEq)]
+pub enum GridPlace {
+    /// `corners`: the origin, the end of the first axis, the end of the second.
+    Corners(Field<Vec<Vec3>>),
+    /// `on`: the name of the object whose faces facing the grid's normal it covers.
+    On(Field<String>),
 }
 
 /// A perspective camera.

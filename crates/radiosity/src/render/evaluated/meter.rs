@@ -82,10 +82,18 @@ impl Meter<'_> {
     /// unit normal `normal`; `seed` tells apart the rays of different calls.
     #[must_use]
     pub fn irradiance(&self, points: &[Vec3], normal: Vec3, seed: u64) -> Vec<Rgb> {
+        let facing: Vec<(Vec3, Vec3)> = points.iter().map(|&x| (x, normal)).collect();
+        self.irradiance_facing(&facing, seed)
+    }
+
+    /// The irradiance (W·m⁻² per channel) at each of `points` on a small surface facing its
+    /// own unit normal, (point, normal); `seed` as for [`Meter::irradiance`].
+    #[must_use]
+    pub fn irradiance_facing(&self, points: &[(Vec3, Vec3)], seed: u64) -> Vec<Rgb> {
         points
             .par_iter()
             .enumerate()
-            .map(|(k, &x)| {
+            .map(|(k, &(x, normal))| {
                 let mut sampler = Sampler::new(k as u32, seed as u32, (seed >> 32) as u32);
                 let direct = self.luminaires.irradiance(
                     &self.world,

@@ -88,7 +88,9 @@
 //! The solve stays viewer-independent; only the picture is evaluated per point. Mirrors and
 //! glass are traced as by [`super::raytrace::render`].
 
+mod far;
 mod luminaires;
+pub mod measured;
 pub mod meter;
 mod near_field;
 mod wanted;
@@ -96,6 +98,7 @@ mod wanted;
 use glam::Vec3;
 use rayon::prelude::*;
 
+use self::far::{far_radiosity, Far, Lighting};
 use self::luminaires::{Luminaires, DISTANT_SIDE, PENUMBRA_REFINE, PIECE_PENUMBRA_REFINE};
 use self::near_field::{NearField, PIECES};
 use super::raytrace::sample::Sampler;
@@ -105,7 +108,7 @@ use super::Watch;
 use crate::accel::Bvh;
 use crate::formfactor::exposure;
 use crate::mesh::{display, LitMesh, Mesh};
-use crate::progress::{Batched, Work};
+use crate::progress::Work;
 use crate::render::{Image, RasterSettings};
 use crate::scene::Camera;
 use crate::solve::Solution;
@@ -130,6 +133,18 @@ pub(super) struct Evaluation {
     luminaires: Luminaires,
     near: NearField,
     /// k of each element ([`far_radiosity`]), per vertex of the lit mesh as its radiosity is.
+    scale: Vec<Rgb>,
+    /// The split of the incident light, when [`prepare`] was asked for it.
+    incident: Option<Incident>,
+}
+
+/// The split of each element's incident indirect light ([`far`]), per vertex of the lit mesh:
+/// what evaluating the illuminance at points needs beside the near field.
+#[derive(Debug)]
+pub(super) struct Incident {
+    /// R_H, interpolated as the far part's radiosity is (over the open parts of the elements).
+    far: Vec<Rgb>,
+    /// k_H.
     scale: Vec<Rgb>,
 }
 
@@ -158,15 +173,53 @@ impl PointEvaluation for Evaluation {
 }
 
 impl Evaluation {
+    /// The illuminance the evaluated picture takes at a point of `patch` (at barycentrics `at`
+    /// of a triangle of the lit mesh) facing `normal`, by the same terms as
+    /// [`PointEvaluation::radiosity`] before the reflectance: E_d + k_H N, and the share of the
+    /// point's view that the near field takes from the interpolated far part R_H
+    /// ([`Evaluation::incident_far`]). `None` unless [`prepare`] was asked for the incident
+    /// split.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn irradiance(
+        &self,
+        world: &World,
+        mesh: &Mesh,
+        point: Vec3,
+        normal: Vec3,
+        (patch, at): (u32, (u32, f32, f32)),
+        samples: u32,
+        sampler: &mut Sampler,
+    ) -> Option<(Rgb, f64)> {
+        let incident = self.incident.as_ref()?;
+        let direct =
+            self.luminaires
+                .irradiance(world, point, normal, (samples, PENUMBRA_REFINE), sampler);
+        let (near, share, _) = self.near.irradiance(mesh, point, normal, patch);
+        let scale = world.interpolated(&incident.scale, at);
+        Some((direct + scale * near, share))
+    }
+
+    /// R_H, the far part of the incident light, interpolated at `at`; zero unless [`prepare`]
+    /// was asked for the incident split.
+    pub(super) fn incident_far(&self, world: &World, at: (u32, f32, f32)) -> Rgb {
+        self.incident
+            .as_ref()
+            .map_or(Rgb::ZERO, |i| world.interpolated(&i.far, at))
+    }
+}
+
+impl Evaluation {
     /// The far part R of every element's indirect light and B − E at its pieces (see
-    /// [`far_radiosity`]), the pieces then shown to the near field. Reported to `watch` as the
-    /// stage "evaluation": the wanted elements, twice (the two passes); `None` if stopped.
+    /// [`far_radiosity`]), the pieces then shown to the near field; with the solution's
+    /// irradiance in `lighting`, the incident split too (kept in `self`). Reported to `watch`
+    /// as the stage "evaluation": the wanted elements, twice (the two passes); `None` if
+    /// stopped.
     #[allow(clippy::too_many_arguments)]
     fn settle(
         &mut self,
         world: &World,
         mesh: &Mesh,
-        (radiosity, reflected): (&[Rgb], Option<&[Rgb]>),
+        lighting: Lighting<'_>,
         open: &[f64],
         samples: u32,
         wanted: Option<&[bool]>,
@@ -186,21 +239,19 @@ impl Evaluation {
                 let patch = &mesh.patches[node.patch as usize];
                 let mut sampler = Sampler::new(e as u32, u32::MAX, 0);
                 self.near.pieces[e].centroids.map(|x| {
-                    patch.reflectance
-                        * self.luminaires.irradiance(
-                            world,
-                            x,
-                            patch.normal,
-                            (samples, PIECE_PENUMBRA_REFINE),
-                            &mut sampler,
-                        )
+                    self.luminaires.irradiance(
+                        world,
+                        x,
+                        patch.normal,
+                        (samples, PIECE_PENUMBRA_REFINE),
+                        &mut sampler,
+                    )
                 })
             })
             .collect();
-        let solution = (radiosity, reflected);
         let first = far_radiosity(
             mesh,
-            solution,
+            lighting,
             open,
             (&self.near, &direct),
             (None, wanted),
@@ -214,7 +265,7 @@ impl Evaluation {
         let first: Vec<Option<Far>> = first.iter().map(|f| (!f.by_pieces).then_some(*f)).collect();
         let split = far_radiosity(
             mesh,
-            solution,
+            lighting,
             open,
             (&self.near, &direct),
             (Some(&first), wanted),
@@ -228,6 +279,15 @@ impl Evaluation {
         watch.progress.finish();
         let scale: Vec<Rgb> = split.iter().map(|f| f.scale).collect();
         self.scale = display::lit_mesh_faceted(mesh, &scale, None).radiosity;
+        let incident: Option<Vec<_>> = split.iter().map(|f| f.incident).collect();
+        self.incident = incident.map(|incident| {
+            let far: Vec<Rgb> = incident.iter().map(|i| i.far).collect();
+            let scale: Vec<Rgb> = incident.iter().map(|i| i.scale).collect();
+            Incident {
+                far: display::lit_mesh_faceted(mesh, &far, Some(open)).radiosity,
+                scale: display::lit_mesh_faceted(mesh, &scale, None).radiosity,
+            }
+        });
         Some(split.iter().map(|f| f.far).collect())
     }
 }
@@ -246,23 +306,31 @@ pub fn render(
     watch: &Watch,
 ) -> Option<Image> {
     let view = Some((camera, image));
-    let (evaluation, _, lit) =
-        prepare(scene, mesh, solution, settings.shadow_samples, view, watch)?;
+    let (evaluation, _, lit) = prepare(
+        scene,
+        mesh,
+        solution,
+        (settings.shadow_samples, false),
+        view,
+        watch,
+    )?;
     let world = World::new(scene, mesh, &lit);
     trace_image(&world, Some(&evaluation), camera, image, settings, watch)
 }
 
-/// What evaluating `radiosity` at points needs: the exact direct light and the near field
-/// settled on the pieces, the solution's lit mesh (averaged), and the lit mesh of the far part
-/// R with its border vertices extrapolated. The two lit meshes have the same triangles. With a
-/// `view` (camera and image), only the elements its picture can read are settled
-/// ([`wanted`]); without one (the exported mesh), all. Reported to `watch` as the stage
-/// "evaluation", in elements settled; `None` if its stop flag was set.
+/// What evaluating `radiosity` at points needs: the exact direct light (`samples` shadow
+/// rays per luminaire at the pieces) and the near field settled on the pieces, the solution's
+/// lit mesh (averaged), and the lit mesh of the far part R with its border vertices
+/// extrapolated. The two lit meshes have the same triangles. With `incident`, the split of the
+/// incident light too, for [`Evaluation::irradiance`]. With a `view` (camera and image), only
+/// the elements its picture can read are settled ([`wanted`]); without one (the exported
+/// mesh), all. Reported to `watch` as the stage "evaluation", in elements settled; `None` if
+/// its stop flag was set.
 pub(super) fn prepare(
     scene: &Scene,
     mesh: &Mesh,
     solution: &Solution,
-    samples: u32,
+    (samples, incident): (u32, bool),
     view: Option<(&Camera, &RasterSettings)>,
     watch: &Watch,
 ) -> Option<(Evaluation, LitMesh, LitMesh)> {
@@ -271,6 +339,7 @@ pub(super) fn prepare(
         luminaires: Luminaires::new(mesh, DISTANT_SIDE),
         near: NearField::new(mesh, radiosity),
         scale: Vec::new(),
+        incident: None,
     };
     // The geometry of the lit mesh does not depend on the values it carries: a world over the
     // solution's lit mesh finds each element's direct light, one over the far part shades.
@@ -282,10 +351,15 @@ pub(super) fn prepare(
     let wanted = view
         .filter(|_| reflected.is_some())
         .and_then(|view| wanted::wanted(scene, &world, mesh, &evaluation.near, view));
+    let lighting = Lighting {
+        radiosity,
+        reflected,
+        irradiance: incident.then_some(solution.irradiance.as_slice()),
+    };
     let far = evaluation.settle(
         &world,
         mesh,
-        (radiosity, reflected),
+        lighting,
         &open,
         samples,
         wanted.as_deref(),
@@ -293,119 +367,6 @@ pub(super) fn prepare(
     )?;
     let lit = display::lit_mesh_faceted(mesh, &far, Some(&open));
     Some((evaluation, full, lit))
-}
-
-/// An element's split of its indirect light (see [`far_radiosity`]).
-#[derive(Clone, Copy, Debug)]
-struct Far {
-    /// R: the far part per share of the view left to it.
-    far: Rgb,
-    /// k: the factor of the near part (1 unless the near part alone exceeds the indirect
-    /// light).
-    scale: Rgb,
-    /// B − E at each piece.
-    pieces: [Rgb; PIECES],
-    /// Whether some piece sees an element close enough to be shown by its pieces.
-    by_pieces: bool,
-}
-
-impl Far {
-    /// All of `indirect` in the far part, no near part.
-    fn flat(indirect: Rgb) -> Self {
-        Self {
-            far: indirect,
-            scale: Rgb::ONE,
-            pieces: [indirect; PIECES],
-            by_pieces: false,
-        }
-    }
-}
-
-/// Every element's split of its indirect light B_i = B − E − ρ Ē_d into the near part and the
-/// far part, the means taken over its pieces (`direct`: ρ E_d at each):
-///
-/// ```text
-/// R = (B_i − ρ N̄) / (1 − S̄),   k = 1          where ρ N̄ ≤ B_i,
-/// R = 0,                        k = B_i / (ρ N̄) where the near part alone exceeds B_i,
-/// ```
-///
-/// per channel. The near field takes every surface within reach as seen, so in a narrow space
-/// (a shelf's compartment, the gap behind it) it can count more light than the solution's
-/// visibility lets the element gather; a negative R there made points of the element swing far
-/// from its mean (to zero and below), so the near part is scaled down to the indirect light
-/// instead, keeping the mean. B − E at each piece is ρ E_d + k ρ N + R (1 − S) there, which the
-/// near field shows to the points next to the element. Where `known` holds an element's split
-/// already (none of its pieces sees an element close enough to be shown by its pieces, so the
-/// pieces change nothing), that is taken instead. An element that `wanted` leaves out
-/// (no point of the picture reads it, [`wanted`]) gets R = B_i with no near part, from the
-/// solution's reflected light.
-fn far_radiosity(
-    mesh: &Mesh,
-    (radiosity, reflected): (&[Rgb], Option<&[Rgb]>),
-    open: &[f64],
-    (near_field, direct): (&NearField, &[[Rgb; PIECES]]),
-    (known, wanted): (Option<&[Option<Far>]>, Option<&[bool]>),
-    watch: &Watch,
-) -> Vec<Far> {
-    let settled = Batched::new(watch.progress, SETTLED_BATCH);
-    let far = (0..mesh.element_count())
-        .into_par_iter()
-        .map(|e| {
-            if wanted.is_none_or(|w| w[e]) {
-                settled.one();
-            }
-            if let Some(far) = known.and_then(|k| k[e]) {
-                return far;
-            }
-            if watch.stopped() {
-                return Far::flat(Rgb::ZERO);
-            }
-            let node = mesh.element(e);
-            let patch = &mesh.patches[node.patch as usize];
-            // B_i over the element's open part, from the solution's reflected light.
-            let reflected = reflected.map(|h| patch.reflectance * h[e] / open[e].max(MIN_OPEN));
-            if let (Some(false), Some(indirect)) = (wanted.map(|w| w[e]), reflected) {
-                return Far::flat(indirect);
-            }
-            let at = &near_field.pieces[e];
-            let mut parts = [(Rgb::ZERO, Rgb::ZERO, 0.0); PIECES];
-            let (mut lit, mut near, mut share, mut area) = (Rgb::ZERO, Rgb::ZERO, 0.0, 0.0);
-            let mut by_pieces = false;
-            let seen = near_field.irradiance_at(mesh, at.centroids, patch.normal, node.patch);
-            for (k, &(n, s, p)) in seen.iter().enumerate() {
-                parts[k] = (direct[e][k], patch.reflectance * n, s);
-                let a = at.areas[k];
-                lit += parts[k].0 * a;
-                near += parts[k].1 * a;
-                share += s * a;
-                area += a;
-                by_pieces |= p;
-            }
-            let (lit, near, share) = (lit / area, near / area, share / area);
-            let indirect = reflected
-                .unwrap_or_else(|| (radiosity[e] - patch.emission - lit) / open[e].max(MIN_OPEN));
-            let left = (1.0 - share).max(MIN_FAR_SHARE);
-            let (mut far, mut scale) = (Rgb::ZERO, Rgb::ONE);
-            for c in 0..3 {
-                if near[c] > indirect[c] {
-                    scale[c] = (indirect[c] / near[c]).max(0.0);
-                } else {
-                    far[c] = (indirect[c] - near[c]) / left;
-                }
-            }
-            // Where the far share was clamped (or B_i < 0) the pieces' mean is not the
-            // element's: shifted back, so that the pieces only redistribute its light.
-            let shift = indirect - (scale * near + far * (1.0 - share));
-            Far {
-                far,
-                scale,
-                pieces: parts.map(|(d, n, s)| d + scale * n + far * (1.0 - s) + shift),
-                by_pieces,
-            }
-        })
-        .collect();
-    drop(settled);
-    far
 }
 
 #[cfg(test)]
@@ -486,8 +447,15 @@ vertices = [[-0.3, 2, -0.4], [0.3, 2, -0.4], [0.3, 2, 0.4], [-0.3, 2, 0.4]]
         let (scene, mesh) = (&solved.scene, &solved.mesh);
         let floor = mesh.patches.iter().filter(|p| p.object == 0).count();
         assert_eq!(floor, 2, "the folded floor is two patches");
-        let (evaluation, _, lit) =
-            prepare(scene, mesh, &solved.solution, 16, None, &Watch::SILENT).unwrap();
+        let (evaluation, _, lit) = prepare(
+            scene,
+            mesh,
+            &solved.solution,
+            (16, false),
+            None,
+            &Watch::SILENT,
+        )
+        .unwrap();
         let world = World::new(scene, mesh, &lit);
         let radiance = |x: f32, z: f32| {
             let eye = Vec3::new(x, 0.5, z);
@@ -565,7 +533,7 @@ vertices = [[19, 0, 1], [21, 0, 1], [21, 0, -1], [19, 0, -1]]
         };
         let raytrace = RaytraceSettings::default();
         let (evaluation, full, lit) =
-            prepare(scene, mesh, solution, 16, None, &Watch::SILENT).unwrap();
+            prepare(scene, mesh, solution, (16, false), None, &Watch::SILENT).unwrap();
         let world = World::new(scene, mesh, &full);
         let wanted = wanted::wanted(scene, &world, mesh, &evaluation.near, (&camera, &image))
             .expect("no mirrors");
@@ -621,13 +589,18 @@ vertices = [[19, 0, 1], [21, 0, 1], [21, 0, -1], [19, 0, -1]]
             luminaires: Luminaires::new(&mesh, DISTANT_SIDE),
             near: NearField::new(&mesh, &radiosity),
             scale: Vec::new(),
+            incident: None,
         };
         let open = vec![1.0; mesh.element_count()];
         let far = evaluation
             .settle(
                 &world,
                 &mesh,
-                (&radiosity, None),
+                Lighting {
+                    radiosity: &radiosity,
+                    reflected: None,
+                    irradiance: None,
+                },
                 &open,
                 16,
                 None,

@@ -53,7 +53,7 @@
 use std::collections::VecDeque;
 use std::ops::Range;
 
-use super::sample::{grid_sample, pixel_samples, render_blocks, Sampler};
+use super::sample::{grid_sample, pixel_samples, render_blocks_of, Sampler};
 use crate::render::{Image, Watch};
 use crate::Rgb;
 
@@ -152,8 +152,31 @@ where
     F: Fn(f32, f32, Sampler) -> (Kind, T) + Sync,
     S: Fn(Vec<(T, u32)>, u32) -> Rgb + Sync,
 {
+    let pixels = render_covered_of((width, height), side, jitter, watch, shoot, shade)?;
+    Some(Image {
+        width,
+        height,
+        pixels,
+    })
+}
+
+/// [`render_covered`] for pixels of any kind `P` (what `shade` makes of a pixel's probes):
+/// the `width · height` pixels row by row.
+pub fn render_covered_of<T, P, F, S>(
+    (width, height): (u32, u32),
+    side: u32,
+    jitter: bool,
+    watch: &Watch,
+    shoot: F,
+    shade: S,
+) -> Option<Vec<P>>
+where
+    P: Clone + Default + Send,
+    F: Fn(f32, f32, Sampler) -> (Kind, T) + Sync,
+    S: Fn(Vec<(T, u32)>, u32) -> P + Sync,
+{
     debug_assert!(side * side <= FIRST_KEYS);
-    render_blocks(width, height, watch, |xs, ys| {
+    render_blocks_of(width, height, watch, |xs, ys| {
         let pixels: Vec<(u32, u32)> = ys
             .clone()
             .flat_map(|y| xs.clone().map(move |x| (x, y)))

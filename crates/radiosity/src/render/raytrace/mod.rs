@@ -165,17 +165,42 @@ pub(super) fn trace_image(
 }
 
 /// A primary ray of the evaluated image and what it hit.
-struct Probe {
+pub(in crate::render) struct Probe {
     origin: Vec3,
     dir: Vec3,
-    hit: Option<SurfaceHit>,
+    /// What it hit, if anything.
+    pub hit: Option<SurfaceHit>,
     sampler: Sampler,
+}
+
+/// The primary ray through image point (`px`, `py`) of `proj` and what it meets in `world`,
+/// as [`render_covered`] takes them.
+pub(in crate::render) fn probe(
+    world: &World,
+    proj: &Projection,
+    (px, py): (f32, f32),
+    sampler: Sampler,
+) -> (Kind, Probe) {
+    let (origin, dir) = proj.primary_ray(px, py);
+    let hit = world.intersect(origin, dir, f32::INFINITY);
+    let kind = hit.as_ref().map_or(Kind::Background, |h| Kind::Surface {
+        patch: world.patch(h.triangle),
+        front: h.front,
+    });
+    let probe = Probe {
+        origin,
+        dir,
+        hit,
+        sampler,
+    };
+    (kind, probe)
 }
 
 /// A pixel's primary rays that hit one side of one diffuse patch: evaluated once, at their
 /// mean point.
-struct Group {
-    patch: u32,
+pub(in crate::render) struct Group {
+    /// The patch of the side seen.
+    pub patch: u32,
     front: bool,
     /// The first ray's hit, and the weighted sum of the others' offsets from it: summed as
     /// they are, 4 096 points a few hundred units from the origin lose a tenth of a unit to
@@ -183,10 +208,71 @@ struct Group {
     first: Vec3,
     offsets: Vec3,
     normal: Vec3,
-    weight: u32,
-    sampler: Sampler,
+    /// The rays' total weight.
+    pub weight: u32,
+    /// The first ray's random stream.
+    pub sampler: Sampler,
     /// Each ray's lit-mesh point (for the interpolated far part), emitted radiance and weight.
-    rays: Vec<((u32, f32, f32), Rgb, u32)>,
+    pub rays: Vec<((u32, f32, f32), Rgb, u32)>,
+}
+
+impl Group {
+    /// The rays' weighted mean point.
+    pub fn point(&self) -> Vec3 {
+        self.first + self.offsets / self.weight as f32
+    }
+
+    /// Their mean normal, unit length.
+    pub fn normal(&self) -> Vec3 {
+        self.normal.normalize_or(self.normal / self.weight as f32)
+    }
+}
+
+/// Sorts a pixel's `probes` (each with its weight): those whose hit shows a diffuse side that
+/// `grouped` accepts into one [`Group`] per patch side, in the order first met; the others
+/// (the background, one-sided backs, the hits `grouped` refuses) as they came.
+pub(in crate::render) fn group(
+    world: &World,
+    probes: Vec<(Probe, u32)>,
+    grouped: impl Fn(&SurfaceHit) -> bool,
+) -> (Vec<Group>, Vec<(Probe, u32)>) {
+    let mut groups: Vec<Group> = Vec::new();
+    let mut others = Vec::new();
+    for (probe, weight) in probes {
+        let Some((hit, d)) = probe
+            .hit
+            .and_then(|hit| hit.diffuse.filter(|_| grouped(&hit)).map(|d| (hit, d)))
+        else {
+            others.push((probe, weight));
+            continue;
+        };
+        // The patch of the side seen: a two-sided surface's back twin when seen from behind.
+        let patch = world.patch(d.0);
+        let emitted = world.emitted(&hit);
+        let w = weight as f32;
+        match groups
+            .iter_mut()
+            .find(|g| g.patch == patch && g.front == hit.front)
+        {
+            Some(g) => {
+                g.offsets += (hit.point - g.first) * w;
+                g.normal += hit.normal * w;
+                g.weight += weight;
+                g.rays.push((d, emitted, weight));
+            }
+            None => groups.push(Group {
+                patch,
+                front: hit.front,
+                first: hit.point,
+                offsets: Vec3::ZERO,
+                normal: hit.normal * w,
+                weight,
+                sampler: probe.sampler,
+                rays: vec![(d, emitted, weight)],
+            }),
+        }
+    }
+    (groups, others)
 }
 
 /// The evaluated image ([`super::evaluated`]), its pixels antialiased by coverage: every primary ray
@@ -208,79 +294,9 @@ fn render_evaluated(
 ) -> Option<Image> {
     let world = tracer.world;
     let proj = Projection::new(camera, image.width, image.height);
-    let shoot = |px: f32, py: f32, sampler: Sampler| {
-        let (origin, dir) = proj.primary_ray(px, py);
-        let hit = world.intersect(origin, dir, f32::INFINITY);
-        let kind = hit.as_ref().map_or(Kind::Background, |h| Kind::Surface {
-            patch: world.patch(h.triangle),
-            front: h.front,
-        });
-        let probe = Probe {
-            origin,
-            dir,
-            hit,
-            sampler,
-        };
-        (kind, probe)
-    };
-    // The traced radiance of the rays that met no plain diffuse surface, the others grouped by
-    // surface side and evaluated once per group.
+    let shoot = |px: f32, py: f32, sampler: Sampler| probe(world, &proj, (px, py), sampler);
     let shade = |probes: Vec<(Probe, u32)>, total: u32| {
-        let mut sum = Rgb::ZERO;
-        let mut groups: Vec<Group> = Vec::new();
-        for (mut probe, weight) in probes {
-            // The background is black.
-            let Some(hit) = probe.hit else {
-                continue;
-            };
-            let plain = !world.material(hit.triangle).is_specular();
-            let Some(d) = hit.diffuse.filter(|_| plain) else {
-                let traced = tracer.trace(probe.origin, probe.dir, 0, Rgb::ONE, &mut probe.sampler);
-                sum += traced * f64::from(weight);
-                continue;
-            };
-            // The patch of the side seen: a two-sided surface's back twin when seen from behind.
-            let patch = world.patch(d.0);
-            let emitted = world.emitted(&hit);
-            let w = weight as f32;
-            match groups
-                .iter_mut()
-                .find(|g| g.patch == patch && g.front == hit.front)
-            {
-                Some(g) => {
-                    g.offsets += (hit.point - g.first) * w;
-                    g.normal += hit.normal * w;
-                    g.weight += weight;
-                    g.rays.push((d, emitted, weight));
-                }
-                None => groups.push(Group {
-                    patch,
-                    front: hit.front,
-                    first: hit.point,
-                    offsets: Vec3::ZERO,
-                    normal: hit.normal * w,
-                    weight,
-                    sampler: probe.sampler,
-                    rays: vec![(d, emitted, weight)],
-                }),
-            }
-        }
-        for mut g in groups {
-            let weight = g.weight as f32;
-            let (at_point, share) = evaluation.radiosity(
-                world,
-                world.mesh(),
-                g.first + g.offsets / weight,
-                g.normal.normalize_or(g.normal / weight),
-                (g.patch, g.rays[0].0),
-                tracer.settings.shadow_samples,
-                &mut g.sampler,
-            );
-            for (d, emitted, w) in g.rays {
-                sum +=
-                    evaluated_radiance(emitted, at_point, world.radiance(d), share) * f64::from(w);
-            }
-        }
+        let (sum, _) = shade_evaluated(tracer, evaluation, probes);
         sum / f64::from(total)
     };
     render_covered(
@@ -291,6 +307,63 @@ fn render_evaluated(
         shoot,
         shade,
     )
+}
+
+/// The weighted sum of the evaluated radiance of a pixel's `probes` in the world of
+/// `settings` and the weight of those that met a surface ([`render_evaluated`]): the rays
+/// that met no plain diffuse surface traced, the others grouped by surface side and evaluated
+/// once per group; the background is black.
+pub(in crate::render) fn evaluated_sum(
+    world: &World,
+    evaluation: &dyn PointEvaluation,
+    settings: &RaytraceSettings,
+    probes: Vec<(Probe, u32)>,
+) -> (Rgb, u32) {
+    let tracer = Tracer {
+        world,
+        settings,
+        evaluation: Some(evaluation),
+    };
+    shade_evaluated(&tracer, evaluation, probes)
+}
+
+/// [`evaluated_sum`] with its tracer.
+fn shade_evaluated(
+    tracer: &Tracer,
+    evaluation: &dyn PointEvaluation,
+    probes: Vec<(Probe, u32)>,
+) -> (Rgb, u32) {
+    let world = tracer.world;
+    let (groups, others) = group(world, probes, |hit| {
+        !world.material(hit.triangle).is_specular()
+    });
+    let mut sum = Rgb::ZERO;
+    let mut covered = 0;
+    for (mut probe, weight) in others {
+        // The background is black.
+        if probe.hit.is_none() {
+            continue;
+        }
+        let traced = tracer.trace(probe.origin, probe.dir, 0, Rgb::ONE, &mut probe.sampler);
+        sum += traced * f64::from(weight);
+        covered += weight;
+    }
+    for mut g in groups {
+        let (at_point, share) = evaluation.radiosity(
+            world,
+            world.mesh(),
+            g.point(),
+            g.normal(),
+            (g.patch, g.rays[0].0),
+            tracer.settings.shadow_samples,
+            &mut g.sampler,
+        );
+        covered += g.weight;
+        for (d, emitted, w) in g.rays {
+            sum += evaluated_radiance(emitted, at_point, world.radiance(d), share) * f64::from(w);
+        }
+    }
+    (sum, covered)
 }
 
 /// The radiance of an evaluated diffuse point ([`super::evaluated`]): its emission, the radiosity

@@ -150,12 +150,26 @@ pub fn render_blocks<F>(width: u32, height: u32, watch: &Watch, tile: F) -> Opti
 where
     F: Fn(Range<u32>, Range<u32>) -> Vec<Rgb> + Sync,
 {
-    let mut image = Image::new(width, height);
+    let pixels = render_blocks_of(width, height, watch, tile)?;
+    Some(Image {
+        width,
+        height,
+        pixels,
+    })
+}
+
+/// [`render_blocks`] for pixels of any kind: the `width · height` pixels row by row.
+pub fn render_blocks_of<P, F>(width: u32, height: u32, watch: &Watch, tile: F) -> Option<Vec<P>>
+where
+    P: Clone + Default + Send,
+    F: Fn(Range<u32>, Range<u32>) -> Vec<P> + Sync,
+{
+    let mut image = vec![P::default(); width as usize * height as usize];
     let (tiles_x, tiles_y) = (width.div_ceil(TILE), height.div_ceil(TILE));
     watch
         .progress
         .start("render", Work::of(u64::from(tiles_x * tiles_y), "tiles"));
-    let tiles: Vec<(u32, Vec<Rgb>)> = (0..tiles_x * tiles_y)
+    let tiles: Vec<(u32, Vec<P>)> = (0..tiles_x * tiles_y)
         .into_par_iter()
         .map(|t| {
             if watch.stopped() {
@@ -181,7 +195,7 @@ where
         let w = (x0 + TILE).min(width) - x0;
         for (k, p) in pixels.into_iter().enumerate() {
             let (x, y) = (x0 + k as u32 % w, y0 + k as u32 / w);
-            image.pixels[y as usize * width as usize + x as usize] = p;
+            image[y as usize * width as usize + x as usize] = p;
         }
     }
     Some(image)

@@ -20,9 +20,9 @@ use model::{PolyMesh, Transform};
 
 use super::check::{polygon_problem, PolygonProblem};
 use super::coincident::{Dropped, SeenFaces};
-use super::description::{Field, ObjectDesc, SceneDesc, ShapeDesc};
+use super::description::{Field, GridDesc, GridPlace, ObjectDesc, SceneDesc, ShapeDesc};
 use super::environment::{CieSky, CieSkyKind, Environment};
-use super::grid::Grid;
+use super::grid::{count_problem, Face, Grid, FACING_DEGREES, LIFT_METRES};
 use super::{
     builtin, check, facing_emitters, frame, parse, Camera, Material, Object, Polygon, Scene,
 };
@@ -210,19 +210,22 @@ pub fn build(desc: &SceneDesc) -> Result<Scene, SceneError> {
         .units
         .as_ref()
         .map_or_else(Default::default, |u| u.value);
-    b.scene.grids = desc
-        .grids
-        .iter()
-        .map(|g| {
-            let c = &g.corners.value;
-            Grid::new(
-                &g.name.value,
-                [c[0], c[1], c[2]],
-                g.spacing.value,
-                g.normal.as_ref().map(|n| n.value),
-            )
-        })
-        .collect();
+    let mut grids = Vec::with_capacity(desc.grids.len());
+    for g in &desc.grids {
+        grids.push(match &g.place {
+            GridPlace::Corners(c) => {
+                let c = &c.value;
+                Grid::new(
+                    &g.name.value,
+                    [c[0], c[1], c[2]],
+                    g.spacing.value,
+                    g.normal.as_ref().map(|n| n.value),
+                )
+            }
+            GridPlace::On(on) => grid_on(&b, desc, g, on)?,
+        });
+    }
+    b.scene.grids = grids;
     if let Some(sky) = &desc.sky {
         let sky = CieSky {
             kind: CieSkyKind::named(&sky.kind.value).expect("checked"),
@@ -235,6 +238,53 @@ pub fn build(desc: &SceneDesc) -> Result<Scene, SceneError> {
         b.scene.add_environment(&Environment::Cie(sky))?;
     }
     b.finish(cameras, render)
+}
+
+/// A grid `on` an object ([`Grid::on`]): on the faces of the object whose front faces the
+/// grid's `normal` (default up) within [`FACING_DEGREES`], its points [`LIFT_METRES`] above
+/// them. Errors, at `on`: the object has no such face; at `spacing`: too many points.
+fn grid_on(
+    b: &Builder,
+    desc: &SceneDesc,
+    g: &GridDesc,
+    on: &Field<String>,
+) -> Result<Grid, SceneError> {
+    let normal = g.normal.as_ref().map_or(Vec3::Y, |n| n.value.normalize());
+    let object = b.objects.get(&on.value).copied();
+    let cos = FACING_DEGREES.to_radians().cos();
+    let faces: Vec<Face> = b
+        .scene
+        .polygons
+        .iter()
+        .filter(|p| Some(p.object) == object)
+        .filter_map(|p| Face::of(&p.vertices))
+        .map(|(face, _)| face)
+        .filter(|face| face.normal.dot(normal) >= cos)
+        .collect();
+    let lift = (LIFT_METRES / b.scene.units.metres()) as f32;
+    let Some(grid) = Grid::on(&g.name.value, faces, g.spacing.value, normal, lift) else {
+        let [x, y, z] = normal.to_array();
+        return Err(check::fail(
+            desc,
+            on,
+            format!(
+                "no face of `{}` faces the grid's normal [{x}, {y}, {z}] (within \
+                 {FACING_DEGREES}°): give the `normal` of the faces to measure on",
+                on.value
+            ),
+        ));
+    };
+    if let Some(message) = count_problem(grid.first, grid.second, g.spacing.value) {
+        return Err(check::fail(desc, &g.spacing, message));
+    }
+    if grid.layout().is_empty() {
+        let message = format!(
+            "no cell centre at spacing {} falls on the faces of `{}`: narrow it",
+            g.spacing.value, on.value
+        );
+        return Err(check::fail(desc, &g.spacing, message));
+    }
+    Ok(grid)
 }
 
 /// One `[[objects]]` entry into polygons.

@@ -2,6 +2,10 @@
 //!
 //! Radiometric quantities (radiance, radiosity, exitance, reflectance) are accumulated over many
 //! bounces and many elements, so they are kept in `f64`; geometry is `f32` (see ARCHITECTURE.md).
+//!
+//! [`scale`] holds the false-colour scale that plots and pictures of light share.
+
+pub mod scale;
 
 /// A linear RGB triple: reflectance, radiance (W·m⁻²·sr⁻¹) or radiosity (W·m⁻²) per channel.
 pub type Rgb = glam::DVec3;
