@@ -36,11 +36,15 @@
 //! - **Daylight through an opening** (CIE 171:2006 §5.9–5.13): a black room lit by a CIE sky
 //!   through a roof opening or a window, floor points read by the calculation grids against
 //!   an independent quadrature of the sky over the opening ([`daylight`]).
+//! - **Point luminaires** (CIE 171:2006's point-source cases): a point source's direct
+//!   illuminance on a plane by the inverse-square and cosine laws, and a closed room around one
+//!   absorbing its whole flux ([`luminaire`]).
 //!
 //! The reference suite (scenes made elsewhere against Mitsuba 3) is a developer tool with the
 //! same rows: `cargo xtask suite`.
 
 mod daylight;
+mod luminaire;
 
 use std::io::Write;
 
@@ -162,6 +166,7 @@ fn suite() -> anyhow::Result<Vec<Check>> {
     });
     rows.extend(cornell()?);
     rows.extend(daylight::rows()?);
+    rows.extend(luminaire::rows()?);
     Ok(rows)
 }
 
