@@ -419,7 +419,7 @@ fn check_luminaire(desc: &SceneDesc, l: &LuminaireDesc) -> Result<(), SceneError
         }
     }
     let strength = match &l.light {
-        LightDesc::File(_) => None,
+        LightDesc::File(..) => None,
         LightDesc::Point(s) => Some(s),
         LightDesc::Spot {
             strength,

@@ -332,8 +332,10 @@ pub struct LuminaireDesc {
 /// Where a luminaire's distribution of intensity comes from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum LightDesc {
-    /// `shape = "luminaire"`: `file`, an IES LM-63 or EULUMDAT file relative to the scene.
-    File(Field<PathBuf>),
+    /// `shape = "luminaire"`: `file`, an IES LM-63 or EULUMDAT file relative to the scene, and
+    /// `opening`: whether the light leaves from the luminous opening the file declares
+    /// (default false: from the position alone).
+    File(Field<PathBuf>, Field<bool>),
     /// `shape = "point"`: the same intensity every way.
     Point(Strength),
     /// `shape = "spot"`: a cone.

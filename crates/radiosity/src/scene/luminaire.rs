@@ -15,6 +15,13 @@
 //! its cone's edge ([`Falloff`]: as the square of a linear ramp in cos γ, the attenuation glTF's
 //! `KHR_lights_punctual` specifies, or linearly in γ, as Mitsuba's `spot`).
 //!
+//! A luminaire close to what it lights is better taken by its *luminous opening*, the
+//! emitting rectangle its photometric file declares: the intensity is then shared among
+//! [`OPENING_SIDE`]² points stratified over the opening (each I(ω)/N from its own place, with
+//! its own shadow ray), which gives soft shadows and the near field's falloff. A round opening
+//! is sampled as the ellipse inscribed in its rectangle (the points of the square grid mapped to
+//! the disc by Shirley & Chiu's concentric map, 1997).
+//!
 //! A white luminaire's candela fill the three channels, so its radiometric numbers read
 //! directly as photometric ones (cd, lm, lx); a colour tints the channels at a luminance of 1.
 //! The distances of the inverse-square law are in metres, whatever the scene's length unit.
@@ -26,6 +33,9 @@ use glam::{DVec3, Vec3};
 use crate::photometry::{Distribution, Symmetry};
 use crate::Rgb;
 
+/// Side of the grid of points over a luminous opening (64 points).
+pub const OPENING_SIDE: u32 = 8;
+
 /// Steps of the γ table of a spot's falloff, between its beam and its cone.
 const SPOT_STEPS: usize = 64;
 
@@ -34,8 +44,10 @@ const SPOT_STEPS: usize = 64;
 pub struct Luminaire {
     /// The object's name.
     pub name: String,
-    /// Where the light leaves, scene units.
+    /// Where the light leaves (the opening's centre), scene units.
     pub position: Vec3,
+    /// The points the light leaves from: the position alone, or points over the opening.
+    sources: Vec<Vec3>,
     /// The luminaire frame in scene axes: the C0 axis (+X), the C90 axis (+Y) and the zenith
     /// (+Z, opposite the aim).
     axes: [DVec3; 3],
@@ -76,11 +88,49 @@ impl Luminaire {
         Self {
             name: name.to_string(),
             position,
+            sources: vec![position],
             axes: [x, y, zenith],
             distribution,
             tint,
             per_square_unit: 1.0 / (metres * metres),
         }
+    }
+
+    /// The same luminaire shining from its luminous opening instead of its centre: a `length`
+    /// × `width` rectangle (scene units) along its C0 and C90 axes about the position,
+    /// `round` for the ellipse inscribed in it (module docs).
+    #[must_use]
+    pub fn with_opening(mut self, length: f64, width: f64, round: bool) -> Self {
+        let n = OPENING_SIDE;
+        self.sources = (0..n * n)
+            .map(|k| {
+                let u = 2.0 * ((k % n) as f64 + 0.5) / f64::from(n) - 1.0;
+                let v = 2.0 * ((k / n) as f64 + 0.5) / f64::from(n) - 1.0;
+                let (a, b) = if round { concentric(u, v) } else { (u, v) };
+                let offset = self.axes[0] * (0.5 * length * a) + self.axes[1] * (0.5 * width * b);
+                self.position + offset.as_vec3()
+            })
+            .collect();
+        self
+    }
+
+    /// The points the light leaves from, each with 1/N of the intensity.
+    #[must_use]
+    pub fn sources(&self) -> &[Vec3] {
+        &self.sources
+    }
+
+    /// The irradiance that source point `from` (one of [`Luminaire::sources`]) sends to a
+    /// surface at `point` of unit normal `normal`, shadows aside.
+    #[must_use]
+    pub fn irradiance_from(&self, from: Vec3, point: Vec3, normal: Vec3) -> Rgb {
+        let w = from - point;
+        let r2 = f64::from(w.length_squared());
+        let cos = f64::from(normal.dot(w)) / r2.sqrt();
+        if !(r2 > 0.0 && cos > 0.0) {
+            return Rgb::ZERO;
+        }
+        self.intensity(-w) * (cos / r2 * self.per_square_unit / self.sources.len() as f64)
     }
 
     /// The intensity towards the direction `dir` (scene axes, from the luminaire; need not be
@@ -97,16 +147,13 @@ impl Luminaire {
     }
 
     /// The irradiance it sends to a surface at `point` of unit normal `normal`, shadows
-    /// aside: I(ω) cos θ / r², r in metres; zero behind the surface.
+    /// aside: Σ over its sources of I(ω) cos θ / (N r²), r in metres; zero behind the surface.
     #[must_use]
     pub fn irradiance(&self, point: Vec3, normal: Vec3) -> Rgb {
-        let w = self.position - point;
-        let r2 = f64::from(w.length_squared());
-        let cos = f64::from(normal.dot(w)) / r2.sqrt();
-        if !(r2 > 0.0 && cos > 0.0) {
-            return Rgb::ZERO;
-        }
-        self.intensity(-w) * (cos / r2 * self.per_square_unit)
+        self.sources
+            .iter()
+            .map(|&from| self.irradiance_from(from, point, normal))
+            .sum()
     }
 
     /// The luminous (or radiant) flux it emits, Φ = ∫ I dΩ, per channel: lm for a white
@@ -122,6 +169,20 @@ impl Luminaire {
     pub fn scene_power(&self) -> Rgb {
         self.flux() * self.per_square_unit
     }
+}
+
+/// Shirley & Chiu's concentric map of the square [−1, 1]² onto the unit disc.
+fn concentric(u: f64, v: f64) -> (f64, f64) {
+    use std::f64::consts::FRAC_PI_4;
+    if u == 0.0 && v == 0.0 {
+        return (0.0, 0.0);
+    }
+    let (r, phi) = if u.abs() > v.abs() {
+        (u, FRAC_PI_4 * (v / u))
+    } else {
+        (v, 2.0 * FRAC_PI_4 - FRAC_PI_4 * (u / v))
+    };
+    (r * phi.cos(), r * phi.sin())
 }
 
 /// The distribution of a point light of intensity `candela` in every direction.
@@ -259,6 +320,32 @@ mod tests {
             "{} {exact}",
             l.flux().x
         );
+    }
+
+    #[test]
+    fn an_opening_keeps_the_far_field_and_softens_the_near_one() {
+        let point = lamp(isotropic(100.0), Vec3::NEG_Y, 1.0);
+        let panel = lamp(isotropic(100.0), Vec3::NEG_Y, 1.0).with_opening(0.6, 0.6, false);
+        assert_eq!(panel.sources().len(), 64);
+        // Far away the opening is a point: within (0.3 / 40)² of it.
+        let far = Vec3::new(40.0, 2.0, 0.0);
+        let (p, q) = (
+            point.irradiance(far, Vec3::NEG_X),
+            panel.irradiance(far, Vec3::NEG_X),
+        );
+        assert!((q.x / p.x - 1.0).abs() < 1e-4, "{p} {q}");
+        // The flux is the distribution's, wherever it leaves from.
+        assert_eq!(panel.flux(), point.flux());
+        // Close under it, the spread points are farther on average: less light.
+        let near = Vec3::new(0.0, 1.8, 0.0);
+        assert!(panel.irradiance(near, Vec3::Y).x < point.irradiance(near, Vec3::Y).x);
+        // A round opening's points lie in the inscribed disc.
+        let round = lamp(isotropic(1.0), Vec3::NEG_Y, 1.0).with_opening(0.6, 0.6, true);
+        let c = round.position;
+        assert!(round
+            .sources()
+            .iter()
+            .all(|s| (*s - c).length() <= 0.3 + 1e-6));
     }
 
     #[test]

@@ -60,20 +60,23 @@ pub fn irradiance(mesh: &Mesh, bvh: &Bvh, nodes: &[u32]) -> Vec<Rgb> {
         .collect()
 }
 
-/// Σ_ℓ I_ℓ cos θ / r² · V at `x` (unit normal `normal`), each luminaire's visibility by one
-/// ray from `x` lifted `lift` off its surface.
+/// Σ_ℓ I_ℓ cos θ / r² · V at `x` (unit normal `normal`), the visibility of each source point
+/// of each luminaire (its position, or the points over its opening) by one ray from `x`
+/// lifted `lift` off its surface.
 fn at_point(mesh: &Mesh, bvh: &Bvh, x: Vec3, normal: Vec3, lift: f32) -> Rgb {
     let from = x + normal * lift;
     let mut sum = Rgb::ZERO;
     for l in &mesh.luminaires {
-        let e = l.irradiance(x, normal);
-        if e == Rgb::ZERO {
-            continue;
-        }
-        let w = l.position - from;
-        let distance = w.length();
-        if !bvh.occluded(&Ray::new(from, w / distance), distance - lift) {
-            sum += e;
+        for &source in l.sources() {
+            let e = l.irradiance_from(source, x, normal);
+            if e == Rgb::ZERO {
+                continue;
+            }
+            let w = source - from;
+            let distance = w.length();
+            if !bvh.occluded(&Ray::new(from, w / distance), distance - lift) {
+                sum += e;
+            }
         }
     }
     sum

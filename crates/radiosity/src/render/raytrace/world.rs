@@ -416,7 +416,8 @@ impl<'a> World<'a> {
 
     /// Σ over the point luminaires ([`crate::scene::luminaire`]) of `brdf(ω) · I(ω) cos θ / r²`:
     /// their light reflected at `point` (unit normal `normal`) toward the viewer, exact but for
-    /// the shadow (one ray each, when `shadows`): a point casts hard shadows.
+    /// the shadow (one ray per source point, when `shadows`): a point casts hard shadows, a
+    /// luminous opening soft ones.
     pub fn point_lights(
         &self,
         point: Vec3,
@@ -427,11 +428,13 @@ impl<'a> World<'a> {
         let origin = point + normal * self.eps;
         let mut sum = Rgb::ZERO;
         for l in &self.mesh.luminaires {
-            let e = l.irradiance(point, normal);
-            if e == Rgb::ZERO || (shadows && self.occluded(origin, l.position)) {
-                continue;
+            for &from in l.sources() {
+                let e = l.irradiance_from(from, point, normal);
+                if e == Rgb::ZERO || (shadows && self.occluded(origin, from)) {
+                    continue;
+                }
+                sum += brdf((from - point).normalize()) * e;
             }
-            sum += brdf((l.position - point).normalize()) * e;
         }
         sum
     }

@@ -26,8 +26,29 @@ pub(super) fn build(
     transform: &Transform,
     metres: f64,
 ) -> Result<Luminaire, SceneError> {
+    let mut opening = None;
     let distribution = match &l.light {
-        LightDesc::File(path) => read(desc, path)?,
+        LightDesc::File(path, use_opening) => {
+            let file = read(desc, path)?;
+            if use_opening.value {
+                let o = file.opening;
+                if !(o.length > 0.0) {
+                    let at = Loc {
+                        file: desc.file.clone(),
+                        line: use_opening.pos.line,
+                        col: use_opening.pos.col,
+                    };
+                    return Err(SceneError::at(
+                        at,
+                        format!("`{}` declares no luminous opening", path.value.display()),
+                    )
+                    .with_key(use_opening.key.clone()));
+                }
+                let width = if o.width > 0.0 { o.width } else { o.length };
+                opening = Some((o.length / metres, width / metres, o.round));
+            }
+            file.distribution
+        }
         LightDesc::Point(strength) => {
             // Φ = 4π I.
             isotropic(candela(strength, 4.0 * std::f64::consts::PI))
@@ -47,7 +68,7 @@ pub(super) fn build(
         .colour
         .as_ref()
         .map_or(Rgb::ONE, |c| c.value / luminance(c.value));
-    Ok(Luminaire::new(
+    let luminaire = Luminaire::new(
         name,
         transform.point(l.position.value),
         transform.vector(l.aim.value),
@@ -55,7 +76,11 @@ pub(super) fn build(
         Arc::new(distribution),
         tint * l.multiplier.value,
         metres,
-    ))
+    );
+    Ok(match opening {
+        Some((length, width, round)) => luminaire.with_opening(length, width, round),
+        None => luminaire,
+    })
 }
 
 /// The intensity of a shorthand light, cd: as given, or its flux over `flux_per_candela`.
@@ -66,12 +91,12 @@ fn candela(strength: &Strength, flux_per_candela: f64) -> f64 {
     }
 }
 
-/// The distribution of the photometric file at `path` (relative to the scene file; a built-in
+/// The photometric file at `path` (relative to the scene file; a built-in
 /// scene's own files are compiled in, [`super::super::builtin::bundled`]).
 fn read(
     desc: &SceneDesc,
     path: &Field<std::path::PathBuf>,
-) -> Result<photometry::Distribution, SceneError> {
+) -> Result<photometry::PhotometricFile, SceneError> {
     let full = desc
         .file
         .parent()
@@ -89,6 +114,5 @@ fn read(
         (Some(text), Some(format)) => photometry::parse(format, text, &full),
         _ => photometry::read(&full),
     };
-    file.map(|f| f.distribution)
-        .map_err(|e| SceneError::at(at, e.to_string()).with_key(path.key.clone()))
+    file.map_err(|e| SceneError::at(at, e.to_string()).with_key(path.key.clone()))
 }

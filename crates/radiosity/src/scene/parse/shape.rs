@@ -66,6 +66,7 @@ const SHAPES: &[(&str, &[&str])] = &[
         "luminaire",
         &[
             "file",
+            "opening",
             "position",
             "aim",
             "rotation",
@@ -267,6 +268,7 @@ fn parse_luminaire(kind: &str, t: &mut Table<'_>) -> Result<LuminaireDesc, Scene
         },
         _ => LightDesc::File(
             t.required_with("file", |k, v| Ok(src.string(k, v)?.map(PathBuf::from)))?,
+            t.optional_with("opening", false, |k, v| src.boolean(k, v))?,
         ),
     };
     Ok(LuminaireDesc {
