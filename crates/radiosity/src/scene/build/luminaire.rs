@@ -32,7 +32,7 @@ pub(super) fn build(
             let file = read(desc, path)?;
             if use_opening.value {
                 let o = file.opening;
-                if !(o.length > 0.0) {
+                if o.length <= 0.0 || o.length.is_nan() {
                     let at = Loc {
                         file: desc.file.clone(),
                         line: use_opening.pos.line,
