@@ -163,12 +163,17 @@ impl PointEvaluation for Evaluation {
         sampler: &mut Sampler,
     ) -> (Rgb, f64) {
         let rho = mesh.patches[patch as usize].reflectance;
-        let direct =
-            self.luminaires
-                .irradiance(world, point, normal, (samples, PENUMBRA_REFINE), sampler);
-        let (near, share, _) = self.near.irradiance(mesh, point, normal, patch);
-        let scale = world.interpolated(&self.scale, at);
-        (rho * (direct + scale * near), share)
+        let (light, share) = self.light(
+            world,
+            mesh,
+            point,
+            normal,
+            (patch, at),
+            &self.scale,
+            samples,
+            sampler,
+        );
+        (rho * light, share)
     }
 }
 
@@ -191,12 +196,38 @@ impl Evaluation {
         sampler: &mut Sampler,
     ) -> Option<(Rgb, f64)> {
         let incident = self.incident.as_ref()?;
+        Some(self.light(
+            world,
+            mesh,
+            point,
+            normal,
+            (patch, at),
+            &incident.scale,
+            samples,
+            sampler,
+        ))
+    }
+
+    /// E_d + k N at a point of `patch` (at barycentrics `at`), k interpolated from `scale`
+    /// per lit-mesh vertex, and the near field's share of the view: the terms both the
+    /// picture's radiosity and its illuminance are made of.
+    #[allow(clippy::too_many_arguments)]
+    fn light(
+        &self,
+        world: &World,
+        mesh: &Mesh,
+        point: Vec3,
+        normal: Vec3,
+        (patch, at): (u32, (u32, f32, f32)),
+        scale: &[Rgb],
+        samples: u32,
+        sampler: &mut Sampler,
+    ) -> (Rgb, f64) {
         let direct =
             self.luminaires
                 .irradiance(world, point, normal, (samples, PENUMBRA_REFINE), sampler);
         let (near, share, _) = self.near.irradiance(mesh, point, normal, patch);
-        let scale = world.interpolated(&incident.scale, at);
-        Some((direct + scale * near, share))
+        (direct + world.interpolated(scale, at) * near, share)
     }
 
     /// R_H, the far part of the incident light, interpolated at `at`; zero unless [`prepare`]

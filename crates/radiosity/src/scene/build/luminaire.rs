@@ -1,14 +1,14 @@
 //! A point luminaire's object into a [`Luminaire`]: its distribution from its photometric file
 //! or its shorthand, placed by the object's transform.
 
-use std::path::Path;
 use std::sync::Arc;
 
 use model::Transform;
 
+use super::super::check::fail;
 use super::super::description::{Field, LightDesc, LuminaireDesc, SceneDesc, Strength};
 use super::super::luminaire::{isotropic, spot, Falloff, Luminaire};
-use super::super::{Loc, SceneError};
+use super::super::SceneError;
 use crate::color::luminance;
 use crate::photometry;
 use crate::Rgb;
@@ -33,16 +33,9 @@ pub(super) fn build(
             if use_opening.value {
                 let o = file.opening;
                 if o.length <= 0.0 || o.length.is_nan() {
-                    let at = Loc {
-                        file: desc.file.clone(),
-                        line: use_opening.pos.line,
-                        col: use_opening.pos.col,
-                    };
-                    return Err(SceneError::at(
-                        at,
-                        format!("`{}` declares no luminous opening", path.value.display()),
-                    )
-                    .with_key(use_opening.key.clone()));
+                    let message =
+                        format!("`{}` declares no luminous opening", path.value.display());
+                    return Err(fail(desc, use_opening, message));
                 }
                 let width = if o.width > 0.0 { o.width } else { o.length };
                 opening = Some((o.length / metres, width / metres, o.round));
@@ -97,16 +90,7 @@ fn read(
     desc: &SceneDesc,
     path: &Field<std::path::PathBuf>,
 ) -> Result<photometry::PhotometricFile, SceneError> {
-    let full = desc
-        .file
-        .parent()
-        .unwrap_or(Path::new(""))
-        .join(&path.value);
-    let at = Loc {
-        file: desc.file.clone(),
-        line: path.pos.line,
-        col: path.pos.col,
-    };
+    let full = super::beside(desc, &path.value);
     let file = match (
         super::super::builtin::bundled(&full),
         photometry::Format::from_path(&full),
@@ -114,5 +98,5 @@ fn read(
         (Some(text), Some(format)) => photometry::parse(format, text, &full),
         _ => photometry::read(&full),
     };
-    file.map_err(|e| SceneError::at(at, e.to_string()).with_key(path.key.clone()))
+    file.map_err(|e| fail(desc, path, e.to_string()))
 }

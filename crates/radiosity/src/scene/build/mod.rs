@@ -18,7 +18,7 @@ use std::sync::Arc;
 use glam::Vec3;
 use model::{PolyMesh, Transform};
 
-use super::check::{polygon_problem, PolygonProblem};
+use super::check::{fail, polygon_problem, PolygonProblem};
 use super::coincident::{Dropped, SeenFaces};
 use super::description::{Field, GridDesc, GridPlace, ObjectDesc, SceneDesc, ShapeDesc};
 use super::environment::{CieSky, CieSkyKind, Environment};
@@ -26,7 +26,7 @@ use super::grid::{count_problem, Face, Grid, FACING_DEGREES, LIFT_METRES};
 use super::{
     builtin, check, facing_emitters, frame, parse, Camera, Material, Object, Polygon, Scene,
 };
-use super::{Loc, RenderDefaults, SceneError};
+use super::{RenderDefaults, SceneError};
 use crate::scene::import::gltf_file;
 use crate::scene::import::obj::{self, ObjFile};
 
@@ -366,6 +366,11 @@ fn build_polygon(
     b.add_faces(std::iter::once((vs, material, object, None)), label);
 }
 
+/// A file a scene names (`path`, relative to the scene file's folder).
+fn beside(desc: &SceneDesc, path: &Path) -> PathBuf {
+    desc.file.parent().unwrap_or(Path::new("")).join(path)
+}
+
 /// An OBJ file as the faces of one object, with its own materials unless `material` is given.
 fn build_mesh(
     b: &mut Builder,
@@ -376,26 +381,18 @@ fn build_mesh(
     object: usize,
     label: &str,
 ) -> Result<(), SceneError> {
-    let full = desc
-        .file
-        .parent()
-        .unwrap_or(Path::new(""))
-        .join(&path.value);
-    let at = Loc {
-        file: desc.file.clone(),
-        line: path.pos.line,
-        col: path.pos.col,
-    };
+    let full = beside(desc, &path.value);
     let is_gltf = full
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
     let obj = if is_gltf {
         if !full.is_file() {
-            return Err(
-                SceneError::at(at, format!("cannot read mesh `{}`", full.display()))
-                    .with_key(path.key.clone()),
-            );
+            return Err(fail(
+                desc,
+                path,
+                format!("cannot read mesh `{}`", full.display()),
+            ));
         }
         let gltf = gltf_file::read_gltf(&full)?;
         if !gltf.luminaires.is_empty() {
@@ -409,19 +406,17 @@ fn build_mesh(
         gltf.mesh
     } else {
         let text = std::fs::read_to_string(&full).map_err(|e| {
-            SceneError::at(at, format!("cannot read mesh `{}`: {e}", full.display()))
-                .with_key(path.key.clone())
+            fail(
+                desc,
+                path,
+                format!("cannot read mesh `{}`: {e}", full.display()),
+            )
         })?;
         obj::parse_obj(&text, &full)?
     };
     if obj.faces.is_empty() {
         let message = format!("mesh `{}` has no faces: is it a mesh?", full.display());
-        let at = Loc {
-            file: desc.file.clone(),
-            line: path.pos.line,
-            col: path.pos.col,
-        };
-        return Err(SceneError::at(at, message).with_key(path.key.clone()));
+        return Err(fail(desc, path, message));
     }
     b.scene.warnings.extend(obj.warnings.iter().cloned());
     let base = b.scene.materials.len();
