@@ -80,7 +80,7 @@ pub(super) fn enclosed_objects(scene: &Scene) -> Vec<bool> {
         if scene
             .luminaires
             .iter()
-            .any(|l| holds(l.position.as_dvec3()))
+            .any(|l| l.position().is_some_and(|p| holds(p.as_dvec3())))
         {
             eligible[o] = false;
         }

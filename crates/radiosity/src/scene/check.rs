@@ -216,7 +216,22 @@ pub fn check(desc: &SceneDesc) -> Result<(), SceneError> {
                 format!("{l} must not be negative"),
             ));
         }
-        if sun_direction(desc, sky)?.is_none() && kind == CieSkyKind::Type12 {
+        let sun = sun_direction(desc, sky)?;
+        if let Some(e) = &sky.sun_illuminance {
+            if !(e.value.is_finite() && e.value >= 0.0) {
+                return Err(fail(desc, e, "must be a finite number ≥ 0".into()));
+            }
+            if sun.is_none() {
+                return Err(fail(
+                    desc,
+                    e,
+                    "the sun's beam needs `sun`, the direction towards the sun, or `latitude`, \
+                     `longitude`, `date` and `time`"
+                        .into(),
+                ));
+            }
+        }
+        if sun.is_none() && kind == CieSkyKind::Type12 {
             return Err(fail(
                 desc,
                 &sky.kind,
@@ -388,7 +403,7 @@ pub fn sun_direction(desc: &SceneDesc, sky: &SkyDesc) -> Result<Option<Vec3>, Sc
     Ok(Some(moment.direction(north)))
 }
 
-/// A point luminaire's values: a direction to aim, a positive multiplier, a visible tint, a
+/// A luminaire's values: a direction to aim, a positive multiplier, a visible tint, a
 /// strength and a spot's angles in order.
 fn check_luminaire(desc: &SceneDesc, l: &LuminaireDesc) -> Result<(), SceneError> {
     if !l.position.value.is_finite() {
@@ -420,6 +435,12 @@ fn check_luminaire(desc: &SceneDesc, l: &LuminaireDesc) -> Result<(), SceneError
     }
     let strength = match &l.light {
         LightDesc::File(..) => None,
+        LightDesc::Directional(e) => {
+            if !(e.value.is_finite() && e.value >= 0.0) {
+                return Err(fail(desc, e, "must be a finite number ≥ 0".into()));
+            }
+            None
+        }
         LightDesc::Point(s) => Some(s),
         LightDesc::Spot {
             strength,

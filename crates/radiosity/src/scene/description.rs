@@ -91,6 +91,9 @@ pub struct SkyDesc {
     pub utc_offset: Option<Field<f64>>,
     /// `north`, the scene's north (default −z).
     pub north: Option<Field<Vec3>>,
+    /// `sun_illuminance`, lx: the sun's beam as a directional light of this illuminance on a
+    /// plane facing the sun (none by default: the sky alone).
+    pub sun_illuminance: Option<Field<f64>>,
 }
 
 /// A calculation grid ([`crate::scene::grid`]).
@@ -307,19 +310,20 @@ pub enum ShapeDesc {
         /// `of`: the name of the object whose shape is reused.
         of: Field<String>,
     },
-    /// `shape = "luminaire"`, `"point"` or `"spot"`: a point luminaire
+    /// `shape = "luminaire"`, `"point"`, `"spot"` or `"directional"`: a luminaire
     /// ([`crate::scene::luminaire`]), no polygon.
     Luminaire(LuminaireDesc),
 }
 
-/// A point luminaire's keys.
+/// A luminaire's keys.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LuminaireDesc {
     /// What gives its distribution of intensity.
     pub light: LightDesc,
-    /// `position`.
+    /// `position` (none for a directional light: the origin, unused).
     pub position: Field<Vec3>,
-    /// `aim`: the direction of the photometric nadir (default −y).
+    /// `aim`: the direction of the photometric nadir, or the direction a directional light's
+    /// rays travel (default −y).
     pub aim: Field<Vec3>,
     /// `rotation`: degrees about the aim (default 0).
     pub rotation: Field<f64>,
@@ -347,6 +351,8 @@ pub enum LightDesc {
         /// `beam`: the half-angle of the full intensity, degrees (default ¾ of the cone).
         beam: Option<Field<f64>>,
     },
+    /// `shape = "directional"`: parallel light of `illuminance` (lx) on a plane facing it.
+    Directional(Field<f64>),
 }
 
 /// How strong a shorthand light is: exactly one of `intensity` (cd) and `flux` (lm).

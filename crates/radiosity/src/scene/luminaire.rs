@@ -25,6 +25,22 @@
 //! A white luminaire's candela fill the three channels, so its radiometric numbers read
 //! directly as photometric ones (cd, lm, lx); a colour tints the channels at a luminance of 1.
 //! The distances of the inverse-square law are in metres, whatever the scene's length unit.
+//!
+//! ## Directional light
+//!
+//! A source so far away that its rays arrive parallel (the sun's beam; glTF's and Mitsuba's
+//! `directional` lights) has no position and no finite intensity: it is given by the
+//! illuminance E⊥ it makes on a plane facing it, and lights a surface turned θ from it with
+//!
+//! ```text
+//! E = E⊥ · cos θ                   (no falloff with distance)
+//! ```
+//!
+//! where nothing stands between the surface and the light. Its shadow ray leaves the scene:
+//! it runs the length of the bounds' diagonal towards the light ([`Luminaire::within`]), far
+//! enough to cross every object and short of a far environment's enclosure. What it emits is
+//! counted as what crosses the disc of the sphere around the bounds, E⊥ · π R², the most the
+//! scene can take from it.
 
 use std::sync::Arc;
 
@@ -39,24 +55,46 @@ pub const OPENING_SIDE: u32 = 8;
 /// Steps of the γ table of a spot's falloff, between its beam and its cone.
 const SPOT_STEPS: usize = 64;
 
-/// A point luminaire placed in the scene.
+/// A luminaire placed in the scene: a point source (its position or its opening) or a
+/// directional light.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Luminaire {
     /// The object's name.
     pub name: String,
-    /// Where the light leaves (the opening's centre), scene units.
-    pub position: Vec3,
-    /// The points the light leaves from: the position alone, or points over the opening.
-    sources: Vec<Vec3>,
-    /// The luminaire frame in scene axes: the C0 axis (+X), the C90 axis (+Y) and the zenith
-    /// (+Z, opposite the aim).
-    axes: [DVec3; 3],
-    /// I(C, γ) of a white luminaire, cd.
-    distribution: Arc<Distribution>,
+    /// How its light travels.
+    throw: Throw,
     /// The colour tint (luminance 1) times the light-loss multiplier, per channel.
     tint: Rgb,
-    /// 1 / (metres per scene unit)²: turns 1/r² in scene units into 1/r² in metres.
-    per_square_unit: f64,
+}
+
+/// How a luminaire's light reaches what it lights (module docs).
+#[derive(Clone, Debug, PartialEq)]
+enum Throw {
+    /// From points in the scene, falling off by the inverse-square law.
+    Radial {
+        /// Where the light leaves (the opening's centre), scene units.
+        position: Vec3,
+        /// The points the light leaves from: the position alone, or points over the opening.
+        sources: Vec<Vec3>,
+        /// The luminaire frame in scene axes: the C0 axis (+X), the C90 axis (+Y) and the
+        /// zenith (+Z, opposite the aim).
+        axes: [DVec3; 3],
+        /// I(C, γ) of a white luminaire, cd.
+        distribution: Arc<Distribution>,
+        /// 1 / (metres per scene unit)²: turns 1/r² in scene units into 1/r² in metres.
+        per_square_unit: f64,
+    },
+    /// In parallel from far away.
+    Parallel {
+        /// Towards the light (unit).
+        toward: Vec3,
+        /// The length of a shadow ray, scene units (infinite until [`Luminaire::within`]).
+        reach: f32,
+        /// The area its flux is counted on, scene units² (0 until [`Luminaire::within`]).
+        section: f64,
+        /// Metres per scene unit.
+        metres: f64,
+    },
 }
 
 impl Luminaire {
@@ -87,87 +125,175 @@ impl Luminaire {
         let y = zenith.cross(x);
         Self {
             name: name.to_string(),
-            position,
-            sources: vec![position],
-            axes: [x, y, zenith],
-            distribution,
+            throw: Throw::Radial {
+                position,
+                sources: vec![position],
+                axes: [x, y, zenith],
+                distribution,
+                per_square_unit: 1.0 / (metres * metres),
+            },
             tint,
-            per_square_unit: 1.0 / (metres * metres),
+        }
+    }
+
+    /// A directional light whose rays travel along `aim`, making the illuminance
+    /// `illuminance` (lx, or W·m⁻² per channel) on a plane facing it; `metres` is the scene's
+    /// length unit in metres. Its shadows need the scene's bounds: [`Luminaire::within`].
+    #[must_use]
+    pub fn directional(name: &str, aim: Vec3, illuminance: Rgb, metres: f64) -> Self {
+        Self {
+            name: name.to_string(),
+            throw: Throw::Parallel {
+                toward: -aim.normalize(),
+                reach: f32::INFINITY,
+                section: 0.0,
+                metres,
+            },
+            tint: illuminance,
         }
     }
 
     /// The same luminaire shining from its luminous opening instead of its centre: a `length`
     /// × `width` rectangle (scene units) along its C0 and C90 axes about the position,
-    /// `round` for the ellipse inscribed in it (module docs).
+    /// `round` for the ellipse inscribed in it (module docs). A directional light is left as
+    /// it is.
     #[must_use]
     pub fn with_opening(mut self, length: f64, width: f64, round: bool) -> Self {
-        let n = OPENING_SIDE;
-        self.sources = (0..n * n)
-            .map(|k| {
-                let u = 2.0 * ((k % n) as f64 + 0.5) / f64::from(n) - 1.0;
-                let v = 2.0 * ((k / n) as f64 + 0.5) / f64::from(n) - 1.0;
-                let (a, b) = if round { concentric(u, v) } else { (u, v) };
-                let offset = self.axes[0] * (0.5 * length * a) + self.axes[1] * (0.5 * width * b);
-                self.position + offset.as_vec3()
-            })
-            .collect();
+        if let Throw::Radial {
+            position,
+            sources,
+            axes,
+            ..
+        } = &mut self.throw
+        {
+            let n = OPENING_SIDE;
+            *sources = (0..n * n)
+                .map(|k| {
+                    let u = 2.0 * ((k % n) as f64 + 0.5) / f64::from(n) - 1.0;
+                    let v = 2.0 * ((k / n) as f64 + 0.5) / f64::from(n) - 1.0;
+                    let (a, b) = if round { concentric(u, v) } else { (u, v) };
+                    let offset = axes[0] * (0.5 * length * a) + axes[1] * (0.5 * width * b);
+                    *position + offset.as_vec3()
+                })
+                .collect();
+        }
         self
     }
 
-    /// The points the light leaves from, each with 1/N of the intensity.
+    /// Fits a directional light to the scene's bounds `[lo, hi]` (the objects it lights, no
+    /// far environment): its shadow rays run the bounds' diagonal, its flux is counted on the
+    /// disc of the sphere around them (module docs). A point luminaire is left as it is.
+    pub fn within(&mut self, lo: Vec3, hi: Vec3) {
+        if let Throw::Parallel { reach, section, .. } = &mut self.throw {
+            let diagonal = (hi - lo).length();
+            *reach = diagonal.max(f32::MIN_POSITIVE.sqrt());
+            *section = std::f64::consts::PI * f64::from(0.5 * diagonal).powi(2);
+        }
+    }
+
+    /// Where the light leaves, scene units; `None` for a directional light.
+    #[must_use]
+    pub fn position(&self) -> Option<Vec3> {
+        match &self.throw {
+            Throw::Radial { position, .. } => Some(*position),
+            Throw::Parallel { .. } => None,
+        }
+    }
+
+    /// The points the light leaves from, each with 1/N of the intensity (none for a
+    /// directional light).
     #[must_use]
     pub fn sources(&self) -> &[Vec3] {
-        &self.sources
+        match &self.throw {
+            Throw::Radial { sources, .. } => sources,
+            Throw::Parallel { .. } => &[],
+        }
+    }
+
+    /// The light that may reach a surface at `point` of unit normal `normal`: for each of
+    /// its sources, the far end of the shadow ray that decides whether it arrives (a source
+    /// point, or the end of the ray towards a directional light) and the irradiance it
+    /// brings if it does. Zero where the surface faces away.
+    pub fn arrivals(&self, point: Vec3, normal: Vec3) -> impl Iterator<Item = (Vec3, Rgb)> + '_ {
+        let parallel = match &self.throw {
+            Throw::Radial { .. } => None,
+            Throw::Parallel { toward, reach, .. } => {
+                let cos = f64::from(normal.dot(*toward)).max(0.0);
+                Some((point + *toward * *reach, self.tint * cos))
+            }
+        };
+        self.sources()
+            .iter()
+            .map(move |&from| (from, self.irradiance_from(from, point, normal)))
+            .chain(parallel)
     }
 
     /// The irradiance that source point `from` (one of [`Luminaire::sources`]) sends to a
     /// surface at `point` of unit normal `normal`, shadows aside.
     #[must_use]
     pub fn irradiance_from(&self, from: Vec3, point: Vec3, normal: Vec3) -> Rgb {
+        let Throw::Radial {
+            sources,
+            per_square_unit,
+            ..
+        } = &self.throw
+        else {
+            return Rgb::ZERO;
+        };
         let w = from - point;
         let r2 = f64::from(w.length_squared());
         let cos = f64::from(normal.dot(w)) / r2.sqrt();
         if !(r2 > 0.0 && cos > 0.0) {
             return Rgb::ZERO;
         }
-        self.intensity(-w) * (cos / r2 * self.per_square_unit / self.sources.len() as f64)
+        self.intensity(-w) * (cos / r2 * per_square_unit / sources.len() as f64)
     }
 
     /// The intensity towards the direction `dir` (scene axes, from the luminaire; need not be
-    /// normalized), per channel.
+    /// normalized), per channel; zero for a directional light, which has no finite one.
     #[must_use]
     pub fn intensity(&self, dir: Vec3) -> Rgb {
+        let Throw::Radial {
+            axes, distribution, ..
+        } = &self.throw
+        else {
+            return Rgb::ZERO;
+        };
         let d = dir.as_dvec3();
-        let local = DVec3::new(
-            self.axes[0].dot(d),
-            self.axes[1].dot(d),
-            self.axes[2].dot(d),
-        );
-        self.tint * self.distribution.intensity(local)
+        let local = DVec3::new(axes[0].dot(d), axes[1].dot(d), axes[2].dot(d));
+        self.tint * distribution.intensity(local)
     }
 
     /// The irradiance it sends to a surface at `point` of unit normal `normal`, shadows
-    /// aside: Σ over its sources of I(ω) cos θ / (N r²), r in metres; zero behind the surface.
+    /// aside: Σ over its sources of I(ω) cos θ / (N r²), r in metres, or E⊥ cos θ for a
+    /// directional light; zero behind the surface.
     #[must_use]
     pub fn irradiance(&self, point: Vec3, normal: Vec3) -> Rgb {
-        self.sources
-            .iter()
-            .map(|&from| self.irradiance_from(from, point, normal))
-            .sum()
+        self.arrivals(point, normal).map(|(_, e)| e).sum()
     }
 
-    /// The luminous (or radiant) flux it emits, Φ = ∫ I dΩ, per channel: lm for a white
-    /// luminaire.
+    /// The luminous (or radiant) flux it emits, per channel: Φ = ∫ I dΩ (lm for a white
+    /// luminaire), or E⊥ · π R² for a directional light (module docs).
     #[must_use]
     pub fn flux(&self) -> Rgb {
-        self.tint * self.distribution.flux()
+        match &self.throw {
+            Throw::Radial { distribution, .. } => self.tint * distribution.flux(),
+            Throw::Parallel {
+                section, metres, ..
+            } => self.tint * (section * metres * metres),
+        }
     }
 
     /// The flux in the scene's power units (Φ over the square of metres per unit), which
     /// the radiosity's Σ A·B is measured in.
     #[must_use]
     pub fn scene_power(&self) -> Rgb {
-        self.flux() * self.per_square_unit
+        match &self.throw {
+            Throw::Radial {
+                per_square_unit, ..
+            } => self.flux() * *per_square_unit,
+            Throw::Parallel { section, .. } => self.tint * *section,
+        }
     }
 }
 
@@ -341,7 +467,7 @@ mod tests {
         assert!(panel.irradiance(near, Vec3::Y).x < point.irradiance(near, Vec3::Y).x);
         // A round opening's points lie in the inscribed disc.
         let round = lamp(isotropic(1.0), Vec3::NEG_Y, 1.0).with_opening(0.6, 0.6, true);
-        let c = round.position;
+        let c = round.position().unwrap();
         assert!(round
             .sources()
             .iter()

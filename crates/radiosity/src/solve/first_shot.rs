@@ -60,15 +60,15 @@ pub fn irradiance(mesh: &Mesh, bvh: &Bvh, nodes: &[u32]) -> Vec<Rgb> {
         .collect()
 }
 
-/// Σ_ℓ I_ℓ cos θ / r² · V at `x` (unit normal `normal`), the visibility of each source point
-/// of each luminaire (its position, or the points over its opening) by one ray from `x`
-/// lifted `lift` off its surface.
+/// Σ_ℓ I_ℓ cos θ / r² · V at `x` (unit normal `normal`): the visibility of each source of
+/// each luminaire ([`crate::scene::Luminaire::arrivals`]: its position, the points over its
+/// opening, or the direction of a directional light) by one ray from `x` lifted `lift` off
+/// its surface.
 fn at_point(mesh: &Mesh, bvh: &Bvh, x: Vec3, normal: Vec3, lift: f32) -> Rgb {
     let from = x + normal * lift;
     let mut sum = Rgb::ZERO;
     for l in &mesh.luminaires {
-        for &source in l.sources() {
-            let e = l.irradiance_from(source, x, normal);
+        for (source, e) in l.arrivals(x, normal) {
             if e == Rgb::ZERO {
                 continue;
             }

@@ -414,10 +414,11 @@ impl<'a> World<'a> {
         points + sum * (total / f64::from(n))
     }
 
-    /// Σ over the point luminaires ([`crate::scene::luminaire`]) of `brdf(ω) · I(ω) cos θ / r²`:
-    /// their light reflected at `point` (unit normal `normal`) toward the viewer, exact but for
-    /// the shadow (one ray per source point, when `shadows`): a point casts hard shadows, a
-    /// luminous opening soft ones.
+    /// Σ over the luminaires ([`crate::scene::luminaire`]) of `brdf(ω) · I(ω) cos θ / r²`
+    /// (`brdf(ω) · E⊥ cos θ` for a directional light): their light reflected at `point` (unit
+    /// normal `normal`) toward the viewer, exact but for the shadow (one ray per source, when
+    /// `shadows`): a point or a directional light casts hard shadows, a luminous opening soft
+    /// ones.
     pub fn point_lights(
         &self,
         point: Vec3,
@@ -428,8 +429,7 @@ impl<'a> World<'a> {
         let origin = point + normal * self.eps;
         let mut sum = Rgb::ZERO;
         for l in &self.mesh.luminaires {
-            for &from in l.sources() {
-                let e = l.irradiance_from(from, point, normal);
+            for (from, e) in l.arrivals(point, normal) {
                 if e == Rgb::ZERO || (shadows && self.occluded(origin, from)) {
                     continue;
                 }

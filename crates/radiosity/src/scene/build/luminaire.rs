@@ -1,5 +1,5 @@
-//! A point luminaire's object into a [`Luminaire`]: its distribution from its photometric file
-//! or its shorthand, placed by the object's transform.
+//! A luminaire's object into a [`Luminaire`]: its distribution from its photometric file or its
+//! shorthand, placed by the object's transform; or a directional light, turned by it.
 
 use std::sync::Arc;
 
@@ -26,8 +26,22 @@ pub(super) fn build(
     transform: &Transform,
     metres: f64,
 ) -> Result<Luminaire, SceneError> {
+    let tint = l
+        .colour
+        .as_ref()
+        .map_or(Rgb::ONE, |c| c.value / luminance(c.value))
+        * l.multiplier.value;
     let mut opening = None;
     let distribution = match &l.light {
+        LightDesc::Directional(illuminance) => {
+            let aim = transform.vector(l.aim.value);
+            return Ok(Luminaire::directional(
+                name,
+                aim,
+                tint * illuminance.value,
+                metres,
+            ));
+        }
         LightDesc::File(path, use_opening) => {
             let file = read(desc, path)?;
             if use_opening.value {
@@ -57,17 +71,13 @@ pub(super) fn build(
             spot(candela(strength, unit.flux()), beam, cone.value, falloff)
         }
     };
-    let tint = l
-        .colour
-        .as_ref()
-        .map_or(Rgb::ONE, |c| c.value / luminance(c.value));
     let luminaire = Luminaire::new(
         name,
         transform.point(l.position.value),
         transform.vector(l.aim.value),
         l.rotation.value,
         Arc::new(distribution),
-        tint * l.multiplier.value,
+        tint,
         metres,
     );
     Ok(match opening {

@@ -226,14 +226,20 @@ pub fn build(desc: &SceneDesc) -> Result<Scene, SceneError> {
         });
     }
     b.scene.grids = grids;
-    if let Some(sky) = &desc.sky {
+    if let Some(sky_desc) = &desc.sky {
         let sky = CieSky {
-            kind: CieSkyKind::named(&sky.kind.value).expect("checked"),
-            zenith_luminance: sky.zenith_luminance.value,
-            sun_direction: super::check::sun_direction(desc, sky)?.unwrap_or(Vec3::Y),
+            kind: CieSkyKind::named(&sky_desc.kind.value).expect("checked"),
+            zenith_luminance: sky_desc.zenith_luminance.value,
+            sun_direction: super::check::sun_direction(desc, sky_desc)?.unwrap_or(Vec3::Y),
             up: Vec3::Y,
         };
         b.scene.sky_illuminance = Some(sky.horizontal_illuminance());
+        if let Some(e) = &sky_desc.sun_illuminance {
+            let metres = b.scene.units.metres();
+            let aim = -sky.sun_direction;
+            let beam = super::Luminaire::directional("sun", aim, crate::Rgb::splat(e.value), metres);
+            b.scene.luminaires.push(beam);
+        }
         b.scene.cameras.clone_from(&cameras);
         b.scene.add_environment(&Environment::Cie(sky))?;
     }
@@ -583,11 +589,37 @@ impl Builder {
         self.scene.warnings.extend(dropped.warning(label));
     }
 
+    /// Fits the directional lights to the bounds of the scene's polygons, a far environment's
+    /// left out ([`super::Luminaire::within`]): their shadow rays cross the scene and end short of it.
+    fn fit_directional_lights(&mut self) {
+        let far = self
+            .scene
+            .objects
+            .iter()
+            .position(|o| o.name == super::environment::NAME);
+        let (lo, hi) = self
+            .scene
+            .polygons
+            .iter()
+            .filter(|p| Some(p.object) != far)
+            .flat_map(|p| p.vertices.iter().copied())
+            .fold(
+                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+                |(lo, hi), v| (lo.min(v), hi.max(v)),
+            );
+        if lo.cmple(hi).all() {
+            for l in &mut self.scene.luminaires {
+                l.within(lo, hi);
+            }
+        }
+    }
+
     /// The finished scene: at least one polygon, and a camera (framed if none was given).
     fn finish(mut self, cameras: Vec<Camera>, render: RenderDefaults) -> Result<Scene, SceneError> {
         if self.scene.polygons.is_empty() {
             return Err(SceneError::in_file(&self.file, "the scene has no polygons"));
         }
+        self.fit_directional_lights();
         if !self.scene.has_emitter() {
             self.scene
                 .warnings

@@ -132,6 +132,7 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc, SceneError> {
             "time",
             "utc_offset",
             "north",
+            "sun_illuminance",
         ])?;
         desc.sky = Some(SkyDesc {
             kind: t.required_with("type", |k, v| src.string(k, v))?,
@@ -143,6 +144,7 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc, SceneError> {
             time: t.optional("time", |k, v| src.string(k, v))?,
             utc_offset: t.optional("utc_offset", |k, v| src.f64(k, v))?,
             north: t.optional("north", |k, v| src.vec3(k, v))?,
+            sun_illuminance: t.optional("sun_illuminance", |k, v| src.f64(k, v))?,
         });
     }
     if let Some((_, v)) = top.take("grids") {

@@ -79,6 +79,10 @@ const SHAPES: &[(&str, &[&str])] = &[
         &["position", "intensity", "flux", "multiplier", "colour"],
     ),
     (
+        "directional",
+        &["aim", "illuminance", "multiplier", "colour"],
+    ),
+    (
         "spot",
         &[
             "position",
@@ -245,7 +249,9 @@ fn parse_shape(kind: &str, t: &mut Table<'_>) -> Result<ShapeDesc, SceneError> {
         "mesh" => ShapeDesc::Mesh {
             path: t.required_with("path", |k, v| Ok(src.string(k, v)?.map(PathBuf::from)))?,
         },
-        "luminaire" | "point" | "spot" => ShapeDesc::Luminaire(parse_luminaire(kind, t)?),
+        "luminaire" | "point" | "spot" | "directional" => {
+            ShapeDesc::Luminaire(parse_luminaire(kind, t)?)
+        }
         // Every name of SHAPES has its arm above; `allowed_keys` let no other through.
         other => {
             return Err(SceneError::at(
@@ -256,7 +262,7 @@ fn parse_shape(kind: &str, t: &mut Table<'_>) -> Result<ShapeDesc, SceneError> {
     })
 }
 
-/// The keys of a point luminaire of shape `kind` (`luminaire`, `point` or `spot`).
+/// The keys of a luminaire of shape `kind` (`luminaire`, `point`, `spot` or `directional`).
 fn parse_luminaire(kind: &str, t: &mut Table<'_>) -> Result<LuminaireDesc, SceneError> {
     let src = t.src;
     let light = match kind {
@@ -266,6 +272,9 @@ fn parse_luminaire(kind: &str, t: &mut Table<'_>) -> Result<LuminaireDesc, Scene
             cone: t.optional_with("cone", DEFAULT_SPOT_CONE, |k, v| src.f64(k, v))?,
             beam: t.optional("beam", |k, v| src.f64(k, v))?,
         },
+        "directional" => {
+            LightDesc::Directional(t.required_with("illuminance", |k, v| src.f64(k, v))?)
+        }
         _ => LightDesc::File(
             t.required_with("file", |k, v| Ok(src.string(k, v)?.map(PathBuf::from)))?,
             t.optional_with("opening", false, |k, v| src.boolean(k, v))?,
@@ -273,7 +282,11 @@ fn parse_luminaire(kind: &str, t: &mut Table<'_>) -> Result<LuminaireDesc, Scene
     };
     Ok(LuminaireDesc {
         light,
-        position: t.required_with("position", |k, v| src.vec3(k, v))?,
+        position: if kind == "directional" {
+            t.optional_with("position", Vec3::ZERO, |k, v| src.vec3(k, v))?
+        } else {
+            t.required_with("position", |k, v| src.vec3(k, v))?
+        },
         aim: t.optional_with("aim", Vec3::NEG_Y, |k, v| src.vec3(k, v))?,
         rotation: t.optional_with("rotation", 0.0, |k, v| src.f64(k, v))?,
         multiplier: t.optional_with("multiplier", 1.0, |k, v| src.f64(k, v))?,

@@ -14,11 +14,11 @@
 //! - `COLOR_0` per vertex, kept for round trips (white where absent, as the specification says);
 //! - perspective cameras: the eye at M·(0,0,0), looking down M's −z with M's +y up, `yfov` as the
 //!   vertical field of view. Orthographic cameras are skipped with a warning;
-//! - `KHR_lights_punctual` point and spot lights as point luminaires
-//!   ([`crate::scene::luminaire`]): `intensity` (cd) × `color` from M·(0,0,0), a spot along M's
-//!   −z with its `innerConeAngle` and `outerConeAngle` and the extension's falloff; `range` is
-//!   left out (light falls as 1/r² to any distance) and so are directional lights, with a
-//!   warning.
+//! - `KHR_lights_punctual` lights as luminaires ([`crate::scene::luminaire`]): a point or a
+//!   spot shines `intensity` (cd) × `color` from M·(0,0,0), a spot along M's −z with its
+//!   `innerConeAngle` and `outerConeAngle` and the extension's falloff, and `range` is left out
+//!   (light falls as 1/r² to any distance); a directional light's rays travel along M's −z with
+//!   the illuminance `intensity` (lx) × `color` on a plane facing them.
 //!
 //! An object is named after its node (else its mesh, else `node{i}`); nodes that share a name
 //! are one object. Buffers are the GLB binary chunk, `data:` URIs (base64) or files relative to
@@ -325,18 +325,24 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
             file.display()
         ));
     }
-    out.mesh.warnings.extend(punctual_lights(doc, file));
     Ok(out)
 }
 
-/// A `KHR_lights_punctual` point or spot light at the node whose world transform is `world`,
-/// as a point luminaire (module docs); `None` for a directional light.
+/// A `KHR_lights_punctual` light at the node whose world transform is `world`, as a luminaire
+/// (module docs); `None` when the transform leaves it no direction.
 fn luminaire(
     light: &gltf::khr_lights_punctual::Light,
     node: &gltf::Node,
     world: Mat4,
 ) -> Option<Luminaire> {
     use gltf::khr_lights_punctual::Kind;
+    let name = light
+        .name()
+        .or(node.name())
+        .map_or_else(|| format!("light{}", light.index()), str::to_string);
+    let colour = Vec3::from_array(light.color()).as_dvec3().max(Rgb::ZERO);
+    let strength = colour * f64::from(light.intensity().max(0.0));
+    let forward = world.transform_vector3(-Vec3::Z).try_normalize();
     let (distribution, aim) = match light.kind() {
         Kind::Point => (isotropic(1.0), Vec3::NEG_Y),
         Kind::Spot {
@@ -347,42 +353,21 @@ fn luminaire(
             let beam = f64::from(inner_cone_angle)
                 .to_degrees()
                 .clamp(0.0, cone * (1.0 - 1e-6));
-            let aim = world.transform_vector3(-Vec3::Z).try_normalize()?;
-            (spot(1.0, beam, cone, Falloff::SquaredCosineRamp), aim)
+            (spot(1.0, beam, cone, Falloff::SquaredCosineRamp), forward?)
         }
-        Kind::Directional => return None,
+        Kind::Directional => {
+            return Some(Luminaire::directional(&name, forward?, strength, 1.0));
+        }
     };
-    let name = light
-        .name()
-        .or(node.name())
-        .map_or_else(|| format!("light{}", light.index()), str::to_string);
-    let colour = Vec3::from_array(light.color()).as_dvec3().max(Rgb::ZERO);
     Some(Luminaire::new(
         &name,
         world.transform_point3(Vec3::ZERO),
         aim,
         0.0,
         std::sync::Arc::new(distribution),
-        colour * f64::from(light.intensity().max(0.0)),
+        strength,
         1.0,
     ))
-}
-
-/// The warning for the file's directional `KHR_lights_punctual` lights, if it has any: they are
-/// not imported, so the file loads and says what it left out.
-fn punctual_lights(doc: &gltf::Document, file: &Path) -> Option<String> {
-    use gltf::khr_lights_punctual::Kind;
-    let directional = doc
-        .lights()?
-        .filter(|l| matches!(l.kind(), Kind::Directional))
-        .count();
-    (directional > 0).then(|| {
-        format!(
-            "{}: {directional} directional KHR_lights_punctual light(s) left out: give the \
-             sun with a [sky] or model the light as an emitting surface",
-            file.display(),
-        )
-    })
 }
 
 /// A glTF material as a radiosity material; its name is pushed to `clamped` when its base
@@ -515,7 +500,7 @@ mod tests {
     }
 
     /// A file that requires `KHR_lights_punctual` (Blender's exporter with its lamps) loads;
-    /// its point and spot lights at nodes become luminaires, its directional light a warning.
+    /// its point, spot and directional lights at nodes become luminaires.
     #[test]
     fn punctual_lights_become_luminaires() {
         let with_lights = sample()
@@ -527,7 +512,7 @@ mod tests {
     {"type": "point", "intensity": 100},
     {"type": "spot", "intensity": 50, "spot": {"outerConeAngle": 0.5}},
     {"type": "point", "color": [1, 0.5, 0.5]},
-    {"type": "directional"}]}},"#,
+    {"type": "directional", "intensity": 1000}]}},"#,
                 1,
             )
             .replacen(r#""nodes": [0, 2]"#, r#""nodes": [0, 2, 3, 4, 5]"#, 1)
@@ -542,7 +527,7 @@ mod tests {
             );
         let g = parse_gltf(with_lights.as_bytes(), Path::new("t.gltf")).expect("loads");
         assert_eq!(g.mesh.faces.len(), 1);
-        assert_eq!(g.luminaires.len(), 2);
+        assert_eq!(g.luminaires.len(), 3);
         // 100 cd 3 m over the origin: 100 / 9 lx.
         let bulb = &g.luminaires[0];
         assert_eq!(bulb.name, "bulb");
@@ -552,19 +537,16 @@ mod tests {
         let spot = &g.luminaires[1];
         assert!((spot.intensity(Vec3::NEG_Y).x - 50.0).abs() < 1e-3);
         assert_eq!(spot.intensity(Vec3::new(0.7, -1.0, 0.0)).x, 0.0);
-        let warning = g
-            .mesh
-            .warnings
-            .iter()
-            .find(|w| w.contains("KHR_lights_punctual"))
-            .expect("a warning");
-        assert!(
-            warning.starts_with("t.gltf: 1 directional KHR_lights_punctual light(s) left out"),
-            "{warning}"
-        );
-        // Without lamps, no such warning.
+        // The sun, unturned, sends 1000 lx down its node's −z: full on a face turned to +z,
+        // cos 60° of it on one turned 60° away, nothing behind.
+        let sun = &g.luminaires[2];
+        assert_eq!((sun.name.as_str(), sun.position()), ("sun", None));
+        assert!((sun.irradiance(Vec3::ZERO, Vec3::Z).x - 1000.0).abs() < 1e-6);
+        let tilted = Vec3::new(0.0, 0.75f32.sqrt(), 0.5);
+        assert!((sun.irradiance(Vec3::ONE, tilted).x - 500.0).abs() < 1e-3);
+        assert_eq!(sun.irradiance(Vec3::ZERO, Vec3::NEG_Z), Rgb::ZERO);
+        assert!(g.mesh.warnings.is_empty(), "{:?}", g.mesh.warnings);
         let g = parse_gltf(sample().as_bytes(), Path::new("t.gltf")).expect("valid");
-        assert!(!g.mesh.warnings.iter().any(|w| w.contains("KHR_lights")));
         assert!(g.luminaires.is_empty());
     }
 

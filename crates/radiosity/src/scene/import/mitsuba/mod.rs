@@ -15,12 +15,12 @@
 //! | `bsdf` | a diffuse reflectance ([`bsdf`]'s table) |
 //! | `emitter` `area` in a shape | the shape's emitted radiance (`radiance`), from its front |
 //! | `emitter` `constant`, `envmap`, `sunsky` (0.6 also `sun`, `sky`) | distant light ([`Environment`]) |
-//! | `emitter` `point`, `spot` | a point luminaire ([`crate::scene::luminaire`], [`luminaire`]) |
+//! | `emitter` `point`, `spot`, `directional` | a luminaire ([`crate::scene::luminaire`], [`luminaire`]) |
 //! | `sensor` `perspective`, `thinlens` | the scene's camera (`fov`, `fov_axis`, the film's size) |
 //! | `integrator`, `sampler`, `rfilter`, `film` (but its size) | ignored: a radiosity renderer has its own |
 //!
 //! Plugins Mitsuba does not have are errors at their `file:line:col`; plugins it has that a
-//! radiosity renderer cannot stand for (participating media, directional and projector lights,
+//! radiosity renderer cannot stand for (participating media, projector lights,
 //! curves, `serialized` meshes) are errors too, saying so, never silent drops.
 
 pub mod bsdf;
@@ -195,10 +195,10 @@ pub fn environment(emitter: &Object, version6: bool) -> Result<Environment, Scen
             }))
         }
         "area" => Err(emitter.error("an area emitter belongs inside the <shape> that emits")),
-        kind @ ("point" | "spot") => Err(emitter.error(format!(
-            "a `{kind}` emitter is a point luminaire, not distant light"
+        kind @ ("point" | "spot" | "directional") => Err(emitter.error(format!(
+            "a `{kind}` emitter is a luminaire, not an environment"
         ))),
-        kind @ ("directional" | "projector" | "collimated" | "directionalarea") => {
+        kind @ ("projector" | "collimated" | "directionalarea") => {
             Err(emitter.error(format!(
                 "`{kind}` emitters are not read yet: model the light as a small emitting shape, a point or spot light, or a sunsky"
             )))
@@ -207,17 +207,29 @@ pub fn environment(emitter: &Object, version6: bool) -> Result<Environment, Scen
     }
 }
 
-/// A `point` or `spot` emitter as the point luminaire `name` (`None` for other emitters).
+/// A `point`, `spot` or `directional` emitter as the luminaire `name` (`None` for other
+/// emitters).
 ///
-/// Both shine `intensity` (W·sr⁻¹ per channel, default 1) from `to_world`·(0, 0, 0) (a point
-/// light's `position` instead, when given); a spot along `to_world`·+z, fully out to
-/// `beam_width` and falling linearly in angle to 0 at `cutoff_angle` (degrees, default 20 and
-/// ¾ of it, as Mitsuba 3). Mitsuba scenes have no length unit: metres.
+/// A point and a spot shine `intensity` (W·sr⁻¹ per channel, default 1) from
+/// `to_world`·(0, 0, 0) (a point light's `position` instead, when given); a spot along
+/// `to_world`·+z, fully out to `beam_width` and falling linearly in angle to 0 at
+/// `cutoff_angle` (degrees, default 20 and ¾ of it, as Mitsuba 3). A directional light's rays
+/// travel along `direction` (else `to_world`·+z) with the `irradiance` (W·m⁻² per channel,
+/// default 1) on a plane facing them. Mitsuba scenes have no length unit: metres.
 ///
 /// # Errors
 /// A textured spot, angles out of order, or properties of the wrong type.
 pub fn luminaire(emitter: &Object, name: &str) -> Result<Option<Luminaire>, SceneError> {
     let to_world = emitter.transform("to_world")?;
+    if emitter.kind == "directional" {
+        let along = to_world.transform_vector3(Vec3::Z);
+        let aim = emitter
+            .vector("direction", along)?
+            .try_normalize()
+            .ok_or_else(|| emitter.error("a directional light needs a non-zero direction"))?;
+        let irradiance = colour(emitter, "irradiance", 1.0)?;
+        return Ok(Some(Luminaire::directional(name, aim, irradiance, 1.0)));
+    }
     let intensity = colour(emitter, "intensity", 1.0)?;
     let origin = to_world.transform_point3(Vec3::ZERO);
     let (position, aim, distribution) = match emitter.kind.as_str() {
@@ -322,7 +334,7 @@ mod tests {
                <rgb name="intensity" value="4, 5, 6"/></emitter>"#,
         );
         let l = luminaire(&o, "bulb").unwrap().unwrap();
-        assert_eq!(l.position, Vec3::new(1.0, 2.0, 3.0));
+        assert_eq!(l.position(), Some(Vec3::new(1.0, 2.0, 3.0)));
         // 2 m straight above a floor point: I / 4.
         let e = l.irradiance(Vec3::new(1.0, 0.0, 3.0), Vec3::Y);
         assert!((e - crate::Rgb::new(1.0, 1.25, 1.5)).abs().max_element() < 1e-9);
@@ -347,8 +359,32 @@ mod tests {
     }
 
     #[test]
-    fn directional_lights_and_unknown_emitters_are_located_errors() {
-        let e = environment(&first("<emitter type=\"directional\"/>"), false).unwrap_err();
+    fn a_directional_emitter_is_parallel_light() {
+        // Rays travelling down and along +x at 45°, 2 W/m² facing them: a floor takes
+        // 2 cos 45°, a wall facing −x the same, a wall facing +x nothing.
+        let o = first(
+            r#"<emitter type="directional"><vector name="direction" x="1" y="-1" z="0"/>
+               <rgb name="irradiance" value="2, 2, 2"/></emitter>"#,
+        );
+        let l = luminaire(&o, "sun").unwrap().unwrap();
+        assert_eq!(l.position(), None);
+        let c = std::f64::consts::FRAC_1_SQRT_2;
+        let floor = l.irradiance(Vec3::new(5.0, 0.0, 7.0), Vec3::Y);
+        assert!((floor.x - 2.0 * c).abs() < 1e-6, "{floor}");
+        assert!((l.irradiance(Vec3::ZERO, Vec3::NEG_X).y - 2.0 * c).abs() < 1e-6);
+        assert_eq!(l.irradiance(Vec3::ZERO, Vec3::X), crate::Rgb::ZERO);
+        // Its default: along to_world's +z.
+        let o = first(
+            r#"<emitter type="directional"><transform name="to_world">
+               <rotate x="1" angle="90"/></transform></emitter>"#,
+        );
+        let l = luminaire(&o, "sun").unwrap().unwrap();
+        assert!((l.irradiance(Vec3::ZERO, Vec3::Y).x - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn projectors_and_unknown_emitters_are_located_errors() {
+        let e = environment(&first("<emitter type=\"projector\"/>"), false).unwrap_err();
         assert!(e.message.contains("not read yet"), "{e}");
         let e = environment(&first("<emitter type=\"laser\"/>"), false).unwrap_err();
         assert!(e.message.contains("unknown emitter plugin `laser`"), "{e}");
