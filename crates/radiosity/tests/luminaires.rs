@@ -197,7 +197,10 @@ fn a_directional_light_gives_a_plane_e_cos_theta_in_every_solver() {
         let s = run(sunlit(0.3, None), method, 256);
         for e in 0..s.mesh.element_count() {
             let b = s.solution.radiosity[e].x;
-            assert!((b / expected - 1.0).abs() < 1e-6, "{method}: {b} vs {expected}");
+            assert!(
+                (b / expected - 1.0).abs() < 1e-6,
+                "{method}: {b} vs {expected}"
+            );
         }
     }
 }
@@ -244,7 +247,10 @@ vertices = [[-1.0, 0.0, -1.0], [-1.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 0.0, -1.
     assert_eq!((sun.name.as_str(), sun.position()), ("sun", None));
     // 45° high: 80 000 cos 45° on the ground; full on a wall facing it, none on its back.
     let e = sun.irradiance(Vec3::ZERO, Vec3::Y).x;
-    assert!((e / (80_000.0 * std::f64::consts::FRAC_1_SQRT_2) - 1.0).abs() < 1e-6, "{e}");
+    assert!(
+        (e / (80_000.0 * std::f64::consts::FRAC_1_SQRT_2) - 1.0).abs() < 1e-6,
+        "{e}"
+    );
     let facing = Vec3::new(0.0, 1.0, 1.0).normalize();
     assert!((sun.irradiance(Vec3::ZERO, facing).x / 80_000.0 - 1.0).abs() < 1e-6);
     assert_eq!(sun.irradiance(Vec3::ZERO, Vec3::NEG_Z), Rgb::ZERO);

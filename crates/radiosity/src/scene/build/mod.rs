@@ -237,7 +237,8 @@ pub fn build(desc: &SceneDesc) -> Result<Scene, SceneError> {
         if let Some(e) = &sky_desc.sun_illuminance {
             let metres = b.scene.units.metres();
             let aim = -sky.sun_direction;
-            let beam = super::Luminaire::directional("sun", aim, crate::Rgb::splat(e.value), metres);
+            let beam =
+                super::Luminaire::directional("sun", aim, crate::Rgb::splat(e.value), metres);
             b.scene.luminaires.push(beam);
         }
         b.scene.cameras.clone_from(&cameras);
