@@ -31,6 +31,10 @@ pub enum Command {
     Render(RenderArgs),
     /// Solve a scene without rendering an image (use --export and --stats).
     Solve(SolveArgs),
+    /// Solve a scene and bake its light into light-map textures over its surfaces: a .glb that
+    /// engines draw as it is (unlit, the light in its base colour) with the irradiance light
+    /// map (RGBM in the file, OpenEXR beside it) on its second UV set.
+    Bake(crate::bake::BakeArgs),
     /// Render local illumination, radiosity (and ray tracing when the scene has mirrors or
     /// glass) side by side in one labelled image.
     Compare(CompareArgs),

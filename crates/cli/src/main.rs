@@ -27,6 +27,7 @@
 #![forbid(unsafe_code)]
 
 mod args;
+mod bake;
 mod compare;
 mod corpus;
 mod curve;
@@ -70,6 +71,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => job::render(&args),
         Command::Solve(args) => job::solve(&args),
+        Command::Bake(args) => bake::run(&args),
         Command::Compare(args) => compare::run(&args),
         Command::Scenes => list_scenes(),
         Command::Info(args) => info::run(&args),

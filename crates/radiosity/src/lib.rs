@@ -61,6 +61,7 @@
 #![deny(unsafe_code)]
 
 pub mod accel;
+pub mod bake;
 pub mod color;
 pub mod formfactor;
 pub mod grids;

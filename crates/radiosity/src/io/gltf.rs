@@ -42,13 +42,13 @@ use crate::render::Image;
 use crate::scene::Camera;
 
 /// glTF `componentType` of `f32`.
-const FLOAT: u32 = 5126;
+pub(super) const FLOAT: u32 = 5126;
 /// glTF `componentType` of `u32`.
-const UNSIGNED_INT: u32 = 5125;
+pub(super) const UNSIGNED_INT: u32 = 5125;
 /// glTF buffer-view target of vertex attributes.
-const ARRAY_BUFFER: u32 = 34962;
+pub(super) const ARRAY_BUFFER: u32 = 34962;
 /// glTF buffer-view target of indices.
-const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+pub(super) const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 
 /// What `COLOR_0` holds.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -143,7 +143,7 @@ pub fn write_glb(
 
 /// The node of a perspective camera at `index` among the file's cameras, in metres: its
 /// rotation turns glTF's camera frame (looking down −z, +y up) onto the camera's view.
-fn camera_node(camera: &Camera, index: usize, metres: f32) -> Value {
+pub(super) fn camera_node(camera: &Camera, index: usize, metres: f32) -> Value {
     let forward = (camera.target - camera.eye).normalize_or_zero();
     let right = forward.cross(camera.up).normalize_or_zero();
     let up = right.cross(forward);
@@ -263,19 +263,7 @@ fn encode(
         }
     }
 
-    let mut cameras = Vec::new();
-    for (i, camera) in placement.cameras.iter().enumerate() {
-        cameras.push(json!({
-            "name": camera.name,
-            "type": "perspective",
-            "perspective": {
-                "yfov": camera.fov_y.to_radians(),
-                "aspectRatio": placement.aspect,
-                "znear": 0.01,
-            }
-        }));
-        nodes.push(camera_node(camera, i, metres));
-    }
+    let cameras = cameras(placement, &mut nodes);
     let mut doc = json!({
         "asset": { "version": "2.0", "generator": "radiosity" },
         "scene": 0,
@@ -302,7 +290,35 @@ fn encode(
         doc["buffers"] = json!([{ "byteLength": bin.len() }]);
     }
 
-    let mut json_chunk = serde_json::to_vec(&doc).map_err(io::Error::other)?;
+    glb(&doc, bin)
+}
+
+/// The placement's cameras as glTF perspective cameras, their nodes pushed onto `nodes`.
+pub(super) fn cameras(placement: &Placement, nodes: &mut Vec<Value>) -> Vec<Value> {
+    let metres = placement.metres_per_unit as f32;
+    let mut cameras = Vec::new();
+    for (i, camera) in placement.cameras.iter().enumerate() {
+        cameras.push(json!({
+            "name": camera.name,
+            "type": "perspective",
+            "perspective": {
+                "yfov": camera.fov_y.to_radians(),
+                "aspectRatio": placement.aspect,
+                "znear": 0.01,
+            }
+        }));
+        nodes.push(camera_node(camera, i, metres));
+    }
+    cameras
+}
+
+/// The `.glb` container of the JSON document `doc` and the binary buffer `bin` (§4.4).
+///
+/// # Errors
+/// `InvalidInput` when the file would exceed the 4 GiB that GLB lengths can describe.
+pub(super) fn glb(doc: &Value, mut bin: Vec<u8>) -> io::Result<Vec<u8>> {
+    let invalid = |m: &str| io::Error::new(io::ErrorKind::InvalidInput, m.to_string());
+    let mut json_chunk = serde_json::to_vec(doc).map_err(io::Error::other)?;
     pad(&mut json_chunk, b' ');
     pad(&mut bin, 0);
     let mut total = 12 + 8 + json_chunk.len();
@@ -336,7 +352,7 @@ fn group_by_object(lit: &LitMesh) -> Vec<(u32, Vec<usize>)> {
 }
 
 /// Little-endian bytes of a list of vectors.
-fn vec3_bytes(data: &[Vec3]) -> Vec<u8> {
+pub(super) fn vec3_bytes(data: &[Vec3]) -> Vec<u8> {
     data.iter()
         .flat_map(|v| v.to_array())
         .flat_map(f32::to_le_bytes)
@@ -344,7 +360,7 @@ fn vec3_bytes(data: &[Vec3]) -> Vec<u8> {
 }
 
 /// Pads `data` with `byte` to a multiple of 4 bytes.
-fn pad(data: &mut Vec<u8>, byte: u8) {
+pub(super) fn pad(data: &mut Vec<u8>, byte: u8) {
     while !data.len().is_multiple_of(4) {
         data.push(byte);
     }

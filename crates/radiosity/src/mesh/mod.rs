@@ -26,7 +26,7 @@ mod receiver_grid;
 mod root_faces;
 mod shadow;
 mod sources;
-mod triangulate;
+pub(crate) mod triangulate;
 
 use std::ops::Range;
 

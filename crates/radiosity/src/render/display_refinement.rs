@@ -44,9 +44,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::evaluated::{prepare, Evaluation};
-use super::raytrace::sample::Sampler;
 use super::raytrace::world::World;
-use super::raytrace::PointEvaluation;
 use crate::color::luminance;
 use crate::mesh::{LitMesh, Mesh};
 use crate::progress::Work;
@@ -179,24 +177,8 @@ struct Refiner<'a> {
 impl Refiner<'_> {
     /// B at barycentrics `at` of lit triangle `t`, at `point` (see the module docs).
     fn value(&self, point: Vec3, t: u32, at: [f32; 2]) -> Rgb {
-        let world = self.world;
-        let patch = world.patch(t);
-        let normal = world.shading_normal(t, at[0], at[1]);
-        let bits = |x: f32| x.to_bits();
-        let seed = bits(point.x) ^ bits(point.y).rotate_left(11) ^ bits(point.z).rotate_left(22);
-        let mut sampler = Sampler::new(seed, 0x0d15_91a7, 0);
-        let (at_point, share) = self.evaluation.radiosity(
-            world,
-            self.mesh,
-            point,
-            normal,
-            (patch, (t, at[0], at[1])),
-            self.samples,
-            &mut sampler,
-        );
-        let far = world.radiance((t, at[0], at[1])) * std::f64::consts::PI;
-        let emission = self.mesh.patches[patch as usize].emission;
-        (emission + at_point + far * (1.0 - share)).max(Rgb::ZERO)
+        self.evaluation
+            .radiosity_at(self.world, self.mesh, point, (t, at), self.samples)
     }
 
     /// [`Refiner::value`], or nothing once `watch` is stopped (a round's evaluations take

@@ -17,11 +17,13 @@
 //!    [`raytrace`].
 //! 7. [`display_refinement`]: the lit mesh with that evaluation at its vertices, split where
 //!    interpolation misses: what the exports show.
-//! 8. [`local`]: the "OpenGL" local illumination model (direct light + constant ambient).
-//! 9. [`compare`]: labelled side-by-side images of several modes.
-//! 10. [`mode`]: the [`Mode`] enum over these renderers, with the settings of each.
-//! 11. [`block_error`]: how far a picture is from a reference picture (block luminance error).
-//! 12. [`false_colour`]: illuminance or luminance at the surface seen through each pixel
+//! 8. [`surface_points`]: that evaluation at given points of the surfaces: what a baker stores
+//!    per texel.
+//! 9. [`local`]: the "OpenGL" local illumination model (direct light + constant ambient).
+//! 10. [`compare`]: labelled side-by-side images of several modes.
+//! 11. [`mode`]: the [`Mode`] enum over these renderers, with the settings of each.
+//! 12. [`block_error`]: how far a picture is from a reference picture (block luminance error).
+//! 13. [`false_colour`]: illuminance or luminance at the surface seen through each pixel
 //!     ([`evaluated::measured`]) on a colour scale with a legend, drawn in [`font`].
 pub mod block_error;
 pub mod camera;
@@ -35,6 +37,7 @@ pub mod local;
 pub mod mode;
 pub mod raster;
 pub mod raytrace;
+pub mod surface_points;
 pub mod tonemap;
 pub mod watch;
 

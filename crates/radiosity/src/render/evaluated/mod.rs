@@ -230,6 +230,37 @@ impl Evaluation {
         (direct + world.interpolated(scale, at) * near, share)
     }
 
+    /// B at `point` of lit triangle `t` (barycentrics `at`) of the far part's lit mesh that
+    /// `world` holds, as the picture shows it: E + ρ (E_d + k N) + R (1 − S), with `samples`
+    /// shadow rays per luminaire. The sampler is seeded by the point, so the same point gets
+    /// the same value whoever asks.
+    pub(crate) fn radiosity_at(
+        &self,
+        world: &World,
+        mesh: &Mesh,
+        point: Vec3,
+        (t, at): (u32, [f32; 2]),
+        samples: u32,
+    ) -> Rgb {
+        let patch = world.patch(t);
+        let normal = world.shading_normal(t, at[0], at[1]);
+        let bits = |x: f32| x.to_bits();
+        let seed = bits(point.x) ^ bits(point.y).rotate_left(11) ^ bits(point.z).rotate_left(22);
+        let mut sampler = Sampler::new(seed, 0x0d15_91a7, 0);
+        let (at_point, share) = self.radiosity(
+            world,
+            mesh,
+            point,
+            normal,
+            (patch, (t, at[0], at[1])),
+            samples,
+            &mut sampler,
+        );
+        let far = world.radiance((t, at[0], at[1])) * std::f64::consts::PI;
+        let emission = mesh.patches[patch as usize].emission;
+        (emission + at_point + far * (1.0 - share)).max(Rgb::ZERO)
+    }
+
     /// R_H, the far part of the incident light, interpolated at `at`; zero unless [`prepare`]
     /// was asked for the incident split.
     pub(super) fn incident_far(&self, world: &World, at: (u32, f32, f32)) -> Rgb {
