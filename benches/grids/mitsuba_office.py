@@ -14,10 +14,10 @@ Mitsuba 3 has no goniometric emitter, so the luminaires are written here as a Py
 I(gamma) times a scale, I read from the IES file by a reader of its own (LM-63 type C with one
 horizontal angle: rotationally symmetric; the candela multiplier and ballast factor applied)
 and interpolated linearly in gamma, the angle from the nadir (-y: the scene's luminaires keep
-the default aim), zero above the last angle of the file. `sample_direction` picks one point
-uniformly (the first sample coordinate) and returns N I cos / r^2's weight without the cosine,
-N I(gamma) s / r^2, which is an unbiased estimate of the sum over the points. Each `opening =
-true` luminaire is the 8 x 8 points at the cell centres of its luminous opening (length along
+the default aim), zero above the last angle of the file. `sample_direction` picks one of the
+N points uniformly (the first sample coordinate) and returns the weight N I(gamma) s / r^2
+(the receiver's cosine is the integrator's): an unbiased estimate of the sum over the points.
+Each `opening = true` luminaire is the 8 x 8 points at the cell centres of its luminous opening (length along
 +x, width along the C90 axis; the panel's opening is square), each with 1/64 of the intensity
 times the scene's `multiplier`: the model our scene format defines, not an approximation of it.
 `--check` compares the plugin with Mitsuba's own `point` emitter (an isotropic table) on one
@@ -42,16 +42,23 @@ parts' in quadrature) is below `--target` of the total, at most `--max-passes` p
 is the Rec. 709 luminance of the RGB irradiance. Points are measured in the order and under
 the `--budget` of mitsuba_daylight.py.
 
-Our side: the CSV of the full office; `--ours-luminaires` and `--ours-sky` optionally take
-the CSVs of the office without its `[sky]` and without its luminaires, compared with
-Mitsuba's parts (`parts` in the JSON). `--mitsuba-from JSON` reuses Mitsuba's side of an
-earlier output and reads only ours again (a refined solve against the same reference).
+Our side: the CSV of the full office (with `grids.json` and, when `--stats` wrote it there,
+`stats.json` beside it: our statistics and timings go into the JSON); `--ours-luminaires` and
+`--ours-sky` optionally take the CSVs of the office without its `[sky]` and without its
+luminaires (`--write-parts DIR` writes the two scenes), compared with Mitsuba's parts (`parts`
+in the JSON). `--mitsuba-from JSON` reuses Mitsuba's side of an earlier output and reads only
+ours again (a refined solve against the same reference).
 
-Usage:
-    radiosity solve office --grids /tmp/office
+Usage (from the repository's root, `radiosity` the release build):
+    python3 benches/grids/mitsuba_office.py --write-parts /tmp/office-parts
+    mkdir -p /tmp/office/full
+    radiosity solve office --grids /tmp/office/full --stats /tmp/office/full/stats.json
+    radiosity solve /tmp/office-parts/office-luminaires.toml --grids /tmp/office/luminaires
+    radiosity solve /tmp/office-parts/office-sky.toml --grids /tmp/office/sky
     DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 \\
-        python3 benches/grids/mitsuba_office.py /tmp/office/work_plane.csv \\
-        > benches/figures/grid-office.json
+        python3 benches/grids/mitsuba_office.py /tmp/office/full/work_plane.csv \\
+        --ours-luminaires /tmp/office/luminaires/work_plane.csv \\
+        --ours-sky /tmp/office/sky/work_plane.csv > benches/figures/grid-office.json
 """
 
 import argparse
@@ -60,6 +67,7 @@ import json
 import math
 import os
 import pathlib
+import shutil
 import sys
 import tempfile
 import time
@@ -260,9 +268,40 @@ def read_csv(path):
                 for r in csv.DictReader(f)]
 
 
+def write_parts(scene, directory):
+    """The office without its `[sky]` and without its luminaires, as two TOML files beside
+    copies of the photometric files, for `--ours-luminaires` and `--ours-sky`."""
+    scene, directory = pathlib.Path(scene), pathlib.Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    text = scene.read_text()
+    head, *objects = text.split("[[objects]]\n")
+    sky = head + "".join("[[objects]]\n" + o for o in objects
+                         if 'shape = "luminaire"' not in o)
+    lines = text.split("\n")
+    k = lines.index("[sky]")
+    end = next(i for i in range(k + 1, len(lines)) if not lines[i] or lines[i][0] == "[")
+    luminaires = "\n".join(lines[:k] + lines[end:])
+    assert "[sky]" not in luminaires and 'shape = "luminaire"' not in sky
+    (directory / "office-luminaires.toml").write_text(luminaires)
+    (directory / "office-sky.toml").write_text(sky)
+    with open(scene, "rb") as f:
+        files = {o["file"] for o in tomllib.load(f)["objects"] if "file" in o}
+    for name in files:
+        shutil.copy(scene.parent / name, directory / name)
+
+
+def read_json(path):
+    """The JSON file at `path`, or None when there is none."""
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        return json.load(f)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("csv", help="the office's work_plane.csv from `radiosity solve --grids`")
+    ap.add_argument("csv", nargs="?",
+                    help="the office's work_plane.csv from `radiosity solve --grids`")
     ap.add_argument("--scene", default=str(ROOT / "scenes" / "office" / "scene.toml"))
     ap.add_argument("--ours-luminaires", help="work_plane.csv of the office without [sky]")
     ap.add_argument("--ours-sky", help="work_plane.csv of the office without luminaires")
@@ -283,7 +322,14 @@ def main():
     ap.add_argument("--variant", default="llvm_ad_rgb")
     ap.add_argument("--mitsuba-from", help="reuse Mitsuba's side of this earlier output")
     ap.add_argument("--check", action="store_true", help="only the plugin check")
+    ap.add_argument("--write-parts", metavar="DIR",
+                    help="only write the office without sky and without luminaires into DIR")
     args = ap.parse_args()
+    if args.write_parts:
+        write_parts(args.scene, args.write_parts)
+        return
+    if args.csv is None and not args.check:
+        ap.error("the office's work_plane.csv is required")
     mi.set_variant(args.variant)
     dr.set_thread_count(args.threads)
     global PointSources
@@ -298,8 +344,9 @@ def main():
                                      ("sky", args.ours_sky)]}
     for name, part in parts_ours.items():
         assert part is None or all(np.allclose(a[0], b[0]) for a, b in zip(part, rows)), name
-    grids_json = os.path.join(os.path.dirname(args.csv), "grids.json")
-    ours_stats = json.load(open(grids_json)) if os.path.exists(grids_json) else None
+    beside = os.path.dirname(args.csv)
+    ours_stats = read_json(os.path.join(beside, "grids.json"))
+    ours_timings = (read_json(os.path.join(beside, "stats.json")) or {}).get("timings")
 
     if args.mitsuba_from:
         with open(args.mitsuba_from) as f:
@@ -319,7 +366,7 @@ def main():
             if part is not None:
                 q[f"ours_{name}_lux"] = part[q["index"]][1]
     out.update(csv=os.path.basename(args.csv), ours_grids_json=ours_stats,
-               ours_note=args.ours_note, summary=summarize(points, rows),
+               ours_timings=ours_timings, ours_note=args.ours_note, summary=summarize(points, rows),
                parts=parts(points, parts_ours), points=points)
     print(json.dumps(out, indent=1))
 
