@@ -48,6 +48,16 @@ pub struct Chart {
     pub min: DVec2,
     /// The upper corner.
     pub max: DVec2,
+    /// The plane the chart is laid flat in.
+    frame: Frame,
+}
+
+impl Chart {
+    /// `p` (a point of one of the chart's faces) laid flat in the chart's plane.
+    #[must_use]
+    pub fn flat(&self, p: Vec3) -> DVec2 {
+        self.frame.flat(p)
+    }
 }
 
 impl Face {
@@ -135,6 +145,7 @@ pub fn charts(scene: &Scene) -> Vec<Chart> {
             corners,
             min,
             max,
+            frame,
         });
     }
     charts
@@ -189,6 +200,7 @@ pub(super) fn newell(v: &[Vec3]) -> DVec3 {
 }
 
 /// A plane's frame: an origin and two axes along it, the normal their cross product.
+#[derive(Clone, Debug)]
 struct Frame {
     origin: DVec3,
     axes: [DVec3; 2],

@@ -32,6 +32,8 @@ pub mod chart;
 pub mod pack;
 pub mod texels;
 
+use glam::Vec3;
+
 use crate::mesh::Mesh;
 use crate::render::surface_points::{radiosity_at, SurfacePoint};
 use crate::render::{Image, Watch};
@@ -117,6 +119,20 @@ pub struct Baked {
     pub covered: Vec<bool>,
 }
 
+impl Baked {
+    /// Where `point` (on `face`) lies in the atlas, in texture coordinates ([0, 1]², v down,
+    /// as glTF's); `None` when the face was not charted (a degenerate polygon).
+    #[must_use]
+    pub fn uv(&self, face: chart::Face, point: glam::Vec3) -> Option<glam::DVec2> {
+        let c = self.charts.iter().position(|c| c.faces.contains(&face))?;
+        let (w, h) = self.atlas.size;
+        let texel = self
+            .atlas
+            .texel(&self.charts, c, self.charts[c].flat(point));
+        Some(texel / glam::DVec2::new(f64::from(w), f64::from(h)))
+    }
+}
+
 /// Bakes the light of `solution` (of `mesh`, built from `scene`) into an atlas (module docs).
 /// `Ok(None)` if `watch` stopped it.
 ///
@@ -155,14 +171,17 @@ pub fn bake(
     };
     let texels = texels::texels(scene, &charts, &atlas);
     let warps: Vec<f32> = scene.polygons.iter().map(|p| warp(&p.vertices)).collect();
+    let sample = |(point, normal, face): (Vec3, Vec3, chart::Face)| SurfacePoint {
+        point,
+        normal,
+        polygon: face.polygon,
+        warp: warps[face.polygon as usize],
+    };
+    // Each texel's point, then the mirror points of the gutter's texels.
     let points: Vec<SurfacePoint> = texels
         .iter()
-        .map(|t| SurfacePoint {
-            point: t.point,
-            normal: t.normal,
-            polygon: t.face.polygon,
-            warp: warps[t.face.polygon as usize],
-        })
+        .map(|t| sample((t.point, t.normal, t.face)))
+        .chain(texels.iter().filter_map(|t| t.mirror.map(sample)))
         .collect();
     let Some(values) = radiosity_at(
         scene,
@@ -183,11 +202,22 @@ pub fn bake(
     let (mut radiance, mut irradiance) = (blank(), blank());
     let mut covered = vec![false; (width * height) as usize];
     let mut missing = Vec::new();
-    for (t, b) in texels.iter().zip(values) {
+    let (own, mut mirrors) = values.split_at(texels.len());
+    for (t, &b) in texels.iter().zip(own) {
+        let inner = if t.mirror.is_some() {
+            let (first, rest) = mirrors.split_first().expect("one value per mirror");
+            mirrors = rest;
+            *first
+        } else {
+            None
+        };
         let Some(b) = b else {
             missing.push(t.index);
             continue;
         };
+        // A gutter texel: the light extrapolated past the edge (texels module docs), kept
+        // within half and twice the edge's own.
+        let b = inner.map_or(b, |inner| (b * 2.0 - inner).clamp(b * 0.5, b * 2.0));
         let polygon = &scene.polygons[t.face.polygon as usize];
         let material = &scene.materials[polygon.material];
         let emitted = if t.face.back {

@@ -3,13 +3,22 @@
 //! A texel belongs to a chart when its centre falls on one of the chart's faces: it stands for
 //! the surface point there (the face's corners interpolated by the centre's barycentric
 //! coordinates in the chart's plane, so a face of a slightly curved chart keeps its own 3-D
-//! corners). A texel of the gutter around the faces ([`super::pack`]) whose centre lies within
-//! the gutter of a face stands for the *nearest* point of the chart's faces instead. A
-//! renderer's bilinear filter reads the four texels around a point, and near a chart's edge
-//! some of them lie outside it: filled with the light of the edge itself (not a copy of the
-//! nearest inner texel, the usual dilation), they make the filtered light at the edge that of
-//! the edge, the same on both charts that meet there, so no seam shows where two charts meet
-//! (a room's floor and wall). Texels farther out stay empty.
+//! corners). A texel of the gutter around the faces ([`super::pack`]) whose centre p lies
+//! within the gutter of a face stands for the light the surface would have at p if it went on:
+//! extrapolated linearly from the nearest point q of the chart's faces and the point q' as far
+//! inside as p is outside (q' = 2q − p, when it lies on the chart),
+//!
+//! ```text
+//! L(p) ≈ 2 L(q) − L(q'),
+//! ```
+//!
+//! so that a renderer's bilinear filter, which near an edge mixes texels on both sides of it,
+//! reads at the edge the light of the edge itself: two charts that meet along an edge (a floor
+//! made of two objects) show the same light there, and no seam shows. (Copying the nearest inner
+//! texel outwards, the usual dilation, leaves each side a quarter texel's gradient off, in
+//! opposite directions: a 2.5 % step across the seam of the test under a near lamp.) Where q'
+//! leaves the chart (a chart thinner than the gutter), the gutter texel takes L(q). Texels
+//! farther out stay empty.
 
 use glam::{DVec2, DVec3, Vec3};
 
@@ -31,6 +40,9 @@ pub struct Texel {
     pub face: Face,
     /// Whether its centre lies on a face (not in the gutter).
     pub inside: bool,
+    /// For a gutter texel, the point q' inside the chart its light is extrapolated from
+    /// (module docs), with its normal and face.
+    pub mirror: Option<(Vec3, Vec3, Face)>,
 }
 
 /// A triangle of a chart: its corners in the chart's plane and in space.
@@ -88,7 +100,7 @@ fn triangles(scene: &Scene, chart: &Chart) -> Vec<Flat> {
 }
 
 /// The texel at chart point `q`: on the triangle holding it, else at the nearest point of the
-/// triangles if within `reach`; `None` beyond.
+/// triangles if within `reach`, with its mirror point inside (module docs); `None` beyond.
 fn locate(flats: &[Flat], q: DVec2, reach: f64) -> Option<Texel> {
     let mut nearest: Option<(f64, &Flat, [f64; 3])> = None;
     for f in flats {
@@ -102,7 +114,22 @@ fn locate(flats: &[Flat], q: DVec2, reach: f64) -> Option<Texel> {
         }
     }
     let (d, f, w) = nearest?;
-    (d <= reach).then(|| at(f, w, false))
+    if d > reach {
+        return None;
+    }
+    let edge = f.plane[0] * w[0] + f.plane[1] * w[1] + f.plane[2] * w[2];
+    let inner = edge * 2.0 - q;
+    let mirror = flats.iter().find_map(|g| {
+        let w = barycentrics(g.plane, inner);
+        w.iter().all(|&x| x >= -1e-12).then(|| {
+            let t = at(g, w, true);
+            (t.point, t.normal, t.face)
+        })
+    });
+    Some(Texel {
+        mirror,
+        ..at(f, w, false)
+    })
 }
 
 /// The texel of triangle `f` at barycentrics `w` (its index filled in by the caller). A point
@@ -119,6 +146,7 @@ fn at(f: &Flat, w: [f64; 3], inside: bool) -> Texel {
         normal: f.normal,
         face: f.face,
         inside,
+        mirror: None,
     }
 }
 
