@@ -53,6 +53,7 @@ pub fn run(args: &BakeArgs) -> Result<()> {
             .clone()
             .unwrap_or_else(|| PathBuf::from(format!("{}.baked.glb", scene.name)));
         check_output(&output, "baked model", &["glb"])?;
+        bake::layout(&scene, &settings)?;
         let solved = job::run_solve(scene, &args.common, false)?;
         if solved.solution.interrupted {
             return Err(Interrupted("interrupted while solving: wrote nothing".into()).into());

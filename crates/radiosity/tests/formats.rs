@@ -6,10 +6,13 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use glam::Vec3;
+use radiosity::bake;
+use radiosity::io::baked::write_baked;
 use radiosity::io::gltf::{vertex_colours, write_glb, Placement, VertexColours};
 use radiosity::mesh::Subdivision;
 use radiosity::pipeline::{self, Settings, Solved};
 use radiosity::progress::Silent;
+use radiosity::render::Watch;
 use radiosity::scene::import::gltf_file::read_gltf;
 use radiosity::Scene;
 
@@ -261,30 +264,72 @@ fn khronos_validator_reports_no_errors() {
             aspect: 1.0,
         };
         write_glb(&glb, &solved.lit, &names(&solved), mode, &placement).expect("glb");
-        let script = "const v = require('gltf-validator'); const fs = require('fs');\
-            v.validateBytes(new Uint8Array(fs.readFileSync(process.argv[1])))\
-             .then(r => console.log(JSON.stringify(r.issues)))\
-             .catch(e => { console.error(e); process.exit(1); });";
-        let out = Command::new("node")
-            .args(["-e", script, &glb.display().to_string()])
-            .env("NODE_PATH", modules.join("node_modules"))
-            .output()
-            .expect("node");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let issues: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json report");
-        let summary: Vec<String> = ["numErrors", "numWarnings", "numInfos", "numHints"]
-            .iter()
-            .map(|k| format!("{k} {}", issues[k]))
-            .collect();
-        println!("{file}: gltf-validator: {}", summary.join(", "));
+        let issues = validate(&modules, &glb);
         let first = issues["messages"].get(0).cloned().unwrap_or_default();
         assert_eq!(issues["numErrors"], 0, "first message: {first}");
+        assert_eq!(issues["numWarnings"], 0, "first message: {first}");
     }
+    // A bake: no errors and no warnings either (its infos name the light map's texture and
+    // UV set, which only the material's extras use).
+    let baked = bake::bake(
+        &solved.scene,
+        &solved.mesh,
+        &solved.solution,
+        &bake::Settings {
+            size: bake::Size::Side(128),
+            ..bake::Settings::default()
+        },
+        &Watch {
+            progress: &Silent,
+            stop: None,
+        },
+    )
+    .expect("bakes")
+    .expect("not stopped");
+    let glb = dir.join("baked.glb");
+    let placement = Placement {
+        metres_per_unit: solved.scene.units.metres(),
+        cameras: &solved.scene.cameras,
+        aspect: 1.5,
+    };
+    write_baked(
+        &glb,
+        &solved.scene,
+        &baked,
+        &placement,
+        "baked.lightmap.exr",
+    )
+    .expect("glb");
+    let issues = validate(&modules, &glb);
+    let first = issues["messages"].get(0).cloned().unwrap_or_default();
+    assert_eq!(issues["numErrors"], 0, "first message: {first}");
+    assert_eq!(issues["numWarnings"], 0, "first message: {first}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The Khronos validator's report on the file at `glb` (`issues`: counts and messages).
+fn validate(modules: &Path, glb: &Path) -> serde_json::Value {
+    let script = "const v = require('gltf-validator'); const fs = require('fs');\
+        v.validateBytes(new Uint8Array(fs.readFileSync(process.argv[1])))\
+         .then(r => console.log(JSON.stringify(r.issues)))\
+         .catch(e => { console.error(e); process.exit(1); });";
+    let out = Command::new("node")
+        .args(["-e", script, &glb.display().to_string()])
+        .env("NODE_PATH", modules.join("node_modules"))
+        .output()
+        .expect("node");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let issues: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json report");
+    let summary: Vec<String> = ["numErrors", "numWarnings", "numInfos", "numHints"]
+        .iter()
+        .map(|k| format!("{k} {}", issues[k]))
+        .collect();
+    println!("{}: gltf-validator: {}", glb.display(), summary.join(", "));
+    issues
 }
 
 #[test]

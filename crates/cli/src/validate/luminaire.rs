@@ -85,7 +85,8 @@ fn room_case(rho: f64, source: Source) -> anyhow::Result<Check> {
     let mut toml =
         format!("[materials.wall]\nreflectance = {rho}\n\n[[objects]]\nname = \"lamp\"\n{light}\n");
     // The six faces, each counter-clockwise seen from inside, and the normal they face.
-    let faces: [(&str, [[f64; 3]; 4], [f64; 3]); 6] = [
+    type Side = (&'static str, [[f64; 3]; 4], [f64; 3]);
+    let faces: [Side; 6] = [
         (
             "floor",
             [[0.0, 0.0, 0.0], [0.0, 0.0, a], [a, 0.0, a], [a, 0.0, 0.0]],

@@ -13,7 +13,9 @@
 //!
 //! Faces are the scene's polygons, each side on its own: the front of every polygon, and the
 //! back of a two-sided one (its light differs from the front's: a partition lit on one side),
-//! whose chart is the mirror image. Charts never cross objects.
+//! whose chart is the mirror image. Charts never cross objects. The enclosures that stand for
+//! distant light (the default sky, an environment's far cube) are not surfaces of the model and
+//! are left out.
 //!
 //! In the plane the first axis runs along the longest edge of the chart's first face, so a
 //! rectangular wall lies along the texel rows instead of diagonally across them.
@@ -82,10 +84,15 @@ impl Face {
 /// first face's polygon, fronts before backs.
 #[must_use]
 pub fn charts(scene: &Scene) -> Vec<Chart> {
+    let distant = |object: usize| {
+        let name = &scene.objects[object].name;
+        name == crate::scene::sky::NAME || name == crate::scene::environment::NAME
+    };
     let faces: Vec<Face> = scene
         .polygons
         .iter()
         .enumerate()
+        .filter(|(_, p)| !distant(p.object))
         .flat_map(|(i, p)| {
             let two_sided = scene.materials[p.material].two_sided;
             let polygon = i as u32;
@@ -155,7 +162,9 @@ pub fn charts(scene: &Scene) -> Vec<Chart> {
 /// ends at the same points).
 fn adjacency(scene: &Scene, faces: &[Face]) -> Vec<Vec<usize>> {
     let key = |v: Vec3| v.to_array().map(f32::to_bits);
-    let mut by_edge: HashMap<(u32, bool, [u32; 3], [u32; 3]), Vec<usize>> = HashMap::new();
+    // (object, side, one end, the other end) → the faces along that edge.
+    type Edge = (u32, bool, [u32; 3], [u32; 3]);
+    let mut by_edge: HashMap<Edge, Vec<usize>> = HashMap::new();
     for (i, f) in faces.iter().enumerate() {
         let object = scene.polygons[f.polygon as usize].object as u32;
         let v = f.vertices(scene);

@@ -133,19 +133,13 @@ impl Baked {
     }
 }
 
-/// Bakes the light of `solution` (of `mesh`, built from `scene`) into an atlas (module docs).
-/// `Ok(None)` if `watch` stopped it.
+/// The charts of `scene` and their places in the atlas `settings` ask for: what a bake will
+/// fill, found before any solve (so a size too small is said at once).
 ///
 /// # Errors
 /// The charts do not fit the size asked for, the density asks for too large an atlas, or
 /// there is nothing to bake.
-pub fn bake(
-    scene: &Scene,
-    mesh: &Mesh,
-    solution: &Solution,
-    settings: &Settings,
-    watch: &Watch,
-) -> Result<Option<Baked>, BakeError> {
+pub fn layout(scene: &Scene, settings: &Settings) -> Result<(Vec<Chart>, Atlas), BakeError> {
     let charts = chart::charts(scene);
     if charts.is_empty() {
         return Err(BakeError::Empty);
@@ -169,6 +163,23 @@ pub fn bake(
             atlas
         }
     };
+    Ok((charts, atlas))
+}
+
+/// Bakes the light of `solution` (of `mesh`, built from `scene`) into an atlas (module docs).
+/// `Ok(None)` if `watch` stopped it.
+///
+/// # Errors
+/// The charts do not fit the size asked for, the density asks for too large an atlas, or
+/// there is nothing to bake.
+pub fn bake(
+    scene: &Scene,
+    mesh: &Mesh,
+    solution: &Solution,
+    settings: &Settings,
+    watch: &Watch,
+) -> Result<Option<Baked>, BakeError> {
+    let (charts, atlas) = layout(scene, settings)?;
     let texels = texels::texels(scene, &charts, &atlas);
     let warps: Vec<f32> = scene.polygons.iter().map(|p| warp(&p.vertices)).collect();
     let sample = |(point, normal, face): (Vec3, Vec3, chart::Face)| SurfacePoint {

@@ -105,7 +105,10 @@ fn boxes(charts: &[Chart], density: f64, padding: u32) -> Vec<(u32, u32)> {
         .iter()
         .map(|c| {
             let e = (c.max - c.min) * density;
-            let side = |x: f64| x.ceil() as u32 + 1 + 2 * padding;
+            // Saturating: an absurd density makes an atlas too large, never a wrapped small one.
+            let side = |x: f64| {
+                (x.ceil().min(f64::from(u32::MAX / 4)) as u32).saturating_add(1 + 2 * padding)
+            };
             (side(e.x), side(e.y))
         })
         .collect()
@@ -116,24 +119,24 @@ fn shelves(boxes: &[(u32, u32)], width: u32) -> (Vec<(u32, u32)>, u32) {
     let mut order: Vec<usize> = (0..boxes.len()).collect();
     order.sort_by_key(|&i| (std::cmp::Reverse(boxes[i].1), i));
     let mut corners = vec![(0, 0); boxes.len()];
-    let (mut x, mut y, mut shelf) = (0, 0, 0);
+    let (mut x, mut y, mut shelf) = (0u32, 0u32, 0u32);
     for i in order {
         let (w, h) = boxes[i];
-        if x + w > width && x > 0 {
-            y += shelf;
+        if x.saturating_add(w) > width && x > 0 {
+            y = y.saturating_add(shelf);
             x = 0;
             shelf = 0;
         }
         corners[i] = (x, y);
-        x += w;
+        x = x.saturating_add(w);
         shelf = shelf.max(h);
     }
-    (corners, y + shelf)
+    (corners, y.saturating_add(shelf))
 }
 
 /// `n` rounded up to a multiple of 4.
 fn round4(n: u32) -> u32 {
-    n.div_ceil(4) * 4
+    n.div_ceil(4).saturating_mul(4)
 }
 
 #[cfg(test)]
