@@ -92,7 +92,7 @@ pub(super) fn patches(scene: &Scene, discontinuity: bool) -> Vec<(Patch, Vec<Fac
             two_sided,
             normal: piece.normal,
             area,
-            reflectance: material.reflectance,
+            reflectance: material.reflectance_of(polygon),
             emission: material.emission * std::f64::consts::PI,
             imprinted: piece.imprinted,
             distant: scene.objects[polygon.object].name == crate::scene::environment::NAME
