@@ -179,7 +179,10 @@ fn a_gltf_checker_floor_reflects_its_mean_times_the_factor() {
     for name in ["data.gltf", "beside.gltf", "floor.glb"] {
         let scene = Scene::load(&dir.join(name)).unwrap();
         assert!(
-            !scene.warnings.iter().any(|w| w.contains("baseColorTexture")),
+            !scene
+                .warnings
+                .iter()
+                .any(|w| w.contains("baseColorTexture")),
             "{name}: {:?}",
             scene.warnings
         );

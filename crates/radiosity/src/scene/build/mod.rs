@@ -598,7 +598,8 @@ impl Builder {
                     let corners = |i: usize, j: usize| Polygon {
                         vertices: vec![vs[0], vs[i], vs[j]],
                         uv: face.uv.as_ref().map(|uv| vec![uv[0], uv[i], uv[j]]),
-                        ..face.clone()
+                        material: face.material,
+                        object: face.object,
                     };
                     let fan: Vec<Polygon> = (1..vs.len() - 1)
                         .map(|i| corners(i, i + 1))
