@@ -8,7 +8,7 @@
 //!
 //! clamped to [`MAX_REFLECTANCE`] per channel ([`TextureMap::mean_over`]). A polygon is fanned
 //! from its first corner; over each triangle uv is affine, so the mean over its area is the
-//! mean over its footprint in texture space, taken exactly ([`footprint`]). The triangles'
+//! mean over its footprint in texture space, taken exactly (`footprint.rs`). The triangles'
 //! means are weighted by their areas. A polygon without texture coordinates takes the mean of
 //! the whole image ([`TextureMap::mean`]), which is also the material's
 //! [`crate::scene::Material::reflectance`] (what the renderers see).

@@ -10,7 +10,7 @@
 //! - materials: reflectance ρ = `baseColorFactor` (RGB; clamped to [`MAX_REFLECTANCE`] with a
 //!   warning, since ρ ≥ 1 would create energy); emitted radiance
 //!   L_e = `emissiveFactor` × `KHR_materials_emissive_strength`; `doubleSided` → two-sided.
-//!   A `baseColorTexture` multiplies the factor, over `TEXCOORD_0` ([`textures`]); emissive
+//!   A `baseColorTexture` multiplies the factor, over `TEXCOORD_0` (`textures.rs`); emissive
 //!   textures are ignored (with a warning);
 //! - `COLOR_0` per vertex, kept for round trips (white where absent, as the specification says);
 //! - perspective cameras: the eye at M·(0,0,0), looking down M's −z with M's +y up, `yfov` as the
