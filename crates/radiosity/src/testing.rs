@@ -199,6 +199,7 @@ impl Builder {
             vertices,
             material: s.materials.len() - 1,
             object: s.objects.len() - 1,
+            uv: None,
         });
     }
 

@@ -202,6 +202,7 @@ fn cube_with_centre_square() -> Scene {
         ],
         material: scene.materials.len() - 1,
         object: scene.objects.len() - 1,
+        uv: None,
     });
     scene
 }

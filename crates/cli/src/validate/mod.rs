@@ -300,6 +300,7 @@ fn add(scene: &mut Scene, object: &str, vertices: Vec<Vec3>, rho: f64, radiance:
         vertices,
         material: scene.materials.len() - 1,
         object,
+        uv: None,
     });
 }
 

@@ -16,6 +16,18 @@ pub fn luminance(c: Rgb) -> f64 {
     0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
 }
 
+/// The linear value of an sRGB-encoded one in [0, 1], the inverse of the sRGB transfer
+/// function (IEC 61966-2-1): L = V/12.92 for V ≤ 0.040 45, ((V + 0.055)/1.055)^2.4 otherwise.
+/// The one decoder of 8- and 16-bit images, hex colours and texture texels.
+#[must_use]
+pub fn srgb_to_linear(encoded: f64) -> f64 {
+    if encoded <= 0.040_45 {
+        encoded / 12.92
+    } else {
+        ((encoded + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 /// Linear sRGB (Rec. 709 primaries, D65 white) of CIE 1931 XYZ tristimulus values, the
 /// matrix of IEC 61966-2-1.
 #[must_use]

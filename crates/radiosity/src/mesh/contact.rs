@@ -387,6 +387,7 @@ mod tests {
                     vertices,
                     material: 0,
                     object: 0,
+                    uv: None,
                 })
                 .collect(),
             ..Scene::default()

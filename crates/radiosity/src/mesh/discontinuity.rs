@@ -409,6 +409,7 @@ mod tests {
             vertices,
             material,
             object,
+            uv: None,
         };
         let v = Vec3::new;
         let (a, b) = (LO, HI);

@@ -394,6 +394,7 @@ mod tests {
                 vertices: vec![Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Y, Vec3::Y],
                 material: 0,
                 object: 0,
+                uv: None,
             }],
             ..Scene::default()
         }
@@ -486,6 +487,7 @@ mod tests {
             vertices,
             material: 0,
             object: 0,
+            uv: None,
         };
         Scene {
             materials: vec![Material::default()],

@@ -404,6 +404,7 @@ mod tests {
                 vertices: vec![Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Y, Vec3::Y],
                 material: 0,
                 object: 0,
+                uv: None,
             }],
             ..Scene::default()
         }
@@ -434,6 +435,7 @@ mod tests {
                 ],
                 material: 0,
                 object: 0,
+                uv: None,
             });
         }
         let mesh = Mesh::build(&scene, Subdivision::Elements(1024));
@@ -488,6 +490,7 @@ mod tests {
                     vertices: f.to_vec(),
                     material: 0,
                     object: 1,
+                    uv: None,
                 });
             }
         }
@@ -653,6 +656,7 @@ mod tests {
                 vertices,
                 material: 1,
                 object: 0,
+                uv: None,
             });
             let mesh = Mesh::build(&scene, Subdivision::Elements(256));
             mesh.validate().unwrap();

@@ -16,6 +16,7 @@
 //! [`PLANAR_TOLERANCE`]: super::root_faces::PLANAR_TOLERANCE
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::discontinuity::cut_shadows;
 use super::enclosure::enclosed_objects;
@@ -42,7 +43,9 @@ pub struct Patch {
     pub normal: Vec3,
     /// Area.
     pub area: f64,
-    /// Diffuse reflectance ρ.
+    /// Diffuse reflectance ρ: the material's, or a textured polygon's mean of its texture over
+    /// the polygon ([`crate::scene::Material::reflectance_of`]); every piece of the polygon
+    /// shares it.
     pub reflectance: Rgb,
     /// Emitted exitance E = π·L_e (W·m⁻²); zero on back sides.
     pub emission: Rgb,
@@ -78,6 +81,13 @@ pub(super) fn patches(scene: &Scene, discontinuity: bool) -> Vec<(Patch, Vec<Fac
     if discontinuity {
         cut_shadows(scene, &mut pieces);
     }
+    // Each polygon's reflectance once (a textured one's is a mean over its footprint), for
+    // all its pieces.
+    let reflectance: Vec<Rgb> = scene
+        .polygons
+        .par_iter()
+        .map(|p| scene.materials[p.material].reflectance_of(p))
+        .collect();
     let mut out = Vec::with_capacity(pieces.len());
     for piece in pieces {
         let polygon = &scene.polygons[piece.polygon];
@@ -92,7 +102,7 @@ pub(super) fn patches(scene: &Scene, discontinuity: bool) -> Vec<(Patch, Vec<Fac
             two_sided,
             normal: piece.normal,
             area,
-            reflectance: material.reflectance,
+            reflectance: reflectance[piece.polygon],
             emission: material.emission * std::f64::consts::PI,
             imprinted: piece.imprinted,
             distant: scene.objects[polygon.object].name == crate::scene::environment::NAME

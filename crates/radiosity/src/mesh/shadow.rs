@@ -413,6 +413,7 @@ mod tests {
                 },
                 material,
                 object,
+                uv: None,
             }
         };
         let mut polygons = vec![square(0.0, 1.0, 0, 0, true), square(1.0, 0.1, 1, 1, false)];
@@ -502,6 +503,7 @@ mod tests {
                 },
                 material,
                 object,
+                uv: None,
             }
         };
         let floor = [(-1.0, -1.0), (-1.0, 1.0), (1.0, 1.0), (1.0, -1.0)]

@@ -25,10 +25,10 @@
 //!   float image files.
 //!
 //! The picture's pixels hold the sRGB colour codes decoded to linear light, so that a PNG
-//! written at exposure 0 holds exactly the colour map's codes ([`tonemap::srgb_to_linear`]).
+//! written at exposure 0 holds exactly the colour map's codes ([`crate::color::srgb_to_linear`]).
 
 use super::font::{draw_text, text_width, GLYPH_H};
-use super::{tonemap, Image};
+use super::Image;
 use crate::color::scale::{colour, label, Scale};
 use crate::registry::registry;
 use crate::Rgb;
@@ -136,7 +136,7 @@ impl Measurement {
 
 /// An 8-bit sRGB colour in linear light.
 fn linear(code: [u8; 3]) -> Rgb {
-    let [r, g, b] = code.map(|c| tonemap::srgb_to_linear(f64::from(c) / 255.0));
+    let [r, g, b] = code.map(|c| crate::color::srgb_to_linear(f64::from(c) / 255.0));
     Rgb::new(r, g, b)
 }
 
@@ -277,7 +277,7 @@ mod tests {
         let picture = m.picture(&scale);
         let strip = legend_width(300, &scale);
         assert_eq!((picture.width, picture.height), (40 + strip, 300));
-        let code = |p: Rgb| [p.x, p.y, p.z].map(tonemap::encode_srgb8);
+        let code = |p: Rgb| [p.x, p.y, p.z].map(crate::render::tonemap::encode_srgb8);
         assert_eq!(code(picture.get(0, 5)), [0, 0, 0], "no value: black");
         for x in [1, 7, 39] {
             let want = scale.colour(10.0 * f64::from(x));

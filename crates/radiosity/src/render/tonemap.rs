@@ -29,7 +29,8 @@ pub fn exposure_scale(stops: f32) -> f64 {
     f64::from(stops).exp2()
 }
 
-/// The sRGB transfer function of a linear value, with the input clamped to [0, 1] (NaN → 0).
+/// The sRGB transfer function of a linear value, with the input clamped to [0, 1] (NaN → 0);
+/// its inverse is [`crate::color::srgb_to_linear`].
 #[must_use]
 pub fn linear_to_srgb(linear: f64) -> f64 {
     let l = if linear.is_nan() {
@@ -41,17 +42,6 @@ pub fn linear_to_srgb(linear: f64) -> f64 {
         12.92 * l
     } else {
         1.055 * l.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// The linear value of an sRGB-encoded one (the inverse of [`linear_to_srgb`] on [0, 1]):
-/// L = V/12.92 for V ≤ 0.040 45, ((V + 0.055)/1.055)^2.4 otherwise.
-#[must_use]
-pub fn srgb_to_linear(encoded: f64) -> f64 {
-    if encoded <= 0.040_45 {
-        encoded / 12.92
-    } else {
-        ((encoded + 0.055) / 1.055).powf(2.4)
     }
 }
 
@@ -101,6 +91,7 @@ pub fn auto_exposure(image: &Image) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::color::srgb_to_linear;
 
     #[test]
     fn srgb_codes_of_known_values() {

@@ -92,6 +92,7 @@ impl Scene {
                 vertices,
                 material,
                 object,
+                uv: None,
             });
         }
         object
@@ -133,6 +134,7 @@ mod tests {
             vertices: vec![Vec3::ZERO, Vec3::X, Vec3::new(f32::NAN, 0.0, 0.0)],
             material: 0,
             object: 0,
+            uv: None,
         });
         scene.cameras.push(super::super::Camera {
             name: "c".into(),

@@ -147,12 +147,14 @@ mod tests {
                     vertices: square(0.0, false),
                     material: 0,
                     object: 0,
+                    uv: None,
                 },
                 // Facing −z, toward the wall at z = 0.
                 Polygon {
                     vertices: square(gap, true),
                     material: 1,
                     object: 1,
+                    uv: None,
                 },
             ],
             ..Scene::default()

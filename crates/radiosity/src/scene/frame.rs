@@ -178,6 +178,7 @@ mod tests {
                 vertices,
                 material: 0,
                 object: 0,
+                uv: None,
             }];
             let c = frame(&polygons, &[Material::default()]);
             (c.eye - c.target).normalize()
@@ -198,6 +199,7 @@ mod tests {
             vertices: vec![a, b, c, d],
             material: 0,
             object: 0,
+            uv: None,
         }
     }
 
@@ -257,6 +259,7 @@ mod tests {
             ],
             material: 0,
             object: 0,
+            uv: None,
         }];
         let c = frame(&polygons, &[]);
         let axis = (c.target - c.eye).normalize();

@@ -21,9 +21,10 @@ pub mod import;
 pub mod luminaire;
 pub mod parse;
 pub mod sky;
+pub mod texture;
 pub mod units;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use crate::Rgb;
 pub use error::{Loc, SceneError};
@@ -59,13 +60,22 @@ pub struct Scene {
     pub warnings: Vec<String>,
 }
 
+/// The largest reflectance an imported material keeps per channel: files say ρ = 1 (glTF's
+/// default base colour, white texels), and ρ ≥ 1 would make a closed scene's light grow
+/// without bound.
+pub const MAX_REFLECTANCE: f64 = 0.99;
+
 /// A diffuse material, with the specular and transmissive parts used by the ray tracer.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     /// The name in the scene (or in the MTL file).
     pub name: String,
-    /// Diffuse reflectance ρ per channel, in [0, 1).
+    /// Diffuse reflectance ρ per channel, in [0, 1); for a textured material, the mean of its
+    /// texture ([`texture::TextureMap::mean`]).
     pub reflectance: Rgb,
+    /// The texture that varies ρ over a polygon with texture coordinates (glTF
+    /// `baseColorTexture`, MTL `map_Kd`); see [`Material::reflectance_of`].
+    pub texture: Option<texture::TextureMap>,
     /// Emitted radiance L_e (W·m⁻²·sr⁻¹); emitted exitance is E = π·L_e, from the front only.
     pub emission: Rgb,
     /// Whether the back reflects too (with the same ρ).
@@ -83,6 +93,7 @@ impl Default for Material {
         Self {
             name: "default".into(),
             reflectance: Rgb::splat(0.5),
+            texture: None,
             emission: Rgb::ZERO,
             two_sided: false,
             specular: Rgb::ZERO,
@@ -93,6 +104,17 @@ impl Default for Material {
 }
 
 impl Material {
+    /// The reflectance the solve gives `polygon`: its texture's mean over the polygon's
+    /// footprint when both are present ([`texture::TextureMap::mean_over`]), else
+    /// [`Material::reflectance`].
+    #[must_use]
+    pub fn reflectance_of(&self, polygon: &Polygon) -> Rgb {
+        match (&self.texture, &polygon.uv) {
+            (Some(map), Some(uv)) => map.mean_over(&polygon.vertices, uv),
+            _ => self.reflectance,
+        }
+    }
+
     /// Whether the material emits light.
     #[must_use]
     pub fn is_emitter(&self) -> bool {
@@ -123,6 +145,9 @@ pub struct Polygon {
     pub material: usize,
     /// Index into [`Scene::objects`].
     pub object: usize,
+    /// Texture coordinates, one per corner (see [`texture`] for their convention), when the
+    /// polygon comes from a file that gives them.
+    pub uv: Option<Vec<Vec2>>,
 }
 
 /// A perspective camera.

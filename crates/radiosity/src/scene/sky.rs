@@ -72,6 +72,7 @@ mod tests {
             vertices: vec![Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Z, Vec3::Z],
             material: 0,
             object: 0,
+            uv: None,
         };
         let mut dark = Scene {
             materials: vec![Material::default()],

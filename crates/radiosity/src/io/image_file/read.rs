@@ -17,6 +17,7 @@ use std::io::{self, BufRead, BufReader, Read};
 use std::path::Path;
 
 use super::ImageError;
+use crate::color::srgb_to_linear;
 use crate::render::Image;
 use crate::Rgb;
 
@@ -274,15 +275,6 @@ fn parse_png(r: impl Read) -> Result<Image, String> {
         };
     }
     Ok(image)
-}
-
-/// The sRGB transfer function's inverse (IEC 61966-2-1).
-fn srgb_to_linear(v: f64) -> f64 {
-    if v <= 0.04045 {
-        v / 12.92
-    } else {
-        ((v + 0.055) / 1.055).powf(2.4)
-    }
 }
 
 /// Reads a Portable Float Map (`PF` colour or `Pf` grey, either byte order) as linear radiance.

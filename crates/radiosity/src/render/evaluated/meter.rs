@@ -210,6 +210,7 @@ mod tests {
                 vertices: vec![Vec3::ZERO, Vec3::Z, Vec3::new(1.0, 0.0, 1.0), Vec3::X],
                 material: 0,
                 object: 0,
+                uv: None,
             }],
             ..Scene::default()
         };

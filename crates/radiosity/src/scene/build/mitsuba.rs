@@ -15,7 +15,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use model::Transform;
 
-use super::{Builder, Material, RenderDefaults, Scene, SceneError};
+use super::{Builder, Material, Polygon, RenderDefaults, Scene, SceneError};
 use crate::scene::import::mitsuba::bsdf::{self, Mapper, Surface};
 use crate::scene::import::mitsuba::xml::{self, resolve, Class, Object};
 use crate::scene::import::mitsuba::{self as mi, shapes};
@@ -184,7 +184,13 @@ impl Walk {
             if flip {
                 vs.reverse();
             }
-            (vs, material, object, None)
+            let face = Polygon {
+                vertices: vs,
+                material,
+                object,
+                uv: None,
+            };
+            (face, None)
         });
         b.add_faces(placed, &label);
         Ok(())

@@ -172,6 +172,7 @@ pub fn build(desc: &SceneDesc) -> Result<Scene, SceneError> {
         .map(|m| Material {
             name: m.name.value.clone(),
             reflectance: m.reflectance.value,
+            texture: None,
             emission: m.emission.value,
             two_sided: m.two_sided,
             specular: m.specular.value,
@@ -370,7 +371,34 @@ fn build_polygon(
         vs.reverse();
     }
     // Repeated corners are dropped and a strongly non-planar polygon is fanned, with a warning.
-    b.add_faces(std::iter::once((vs, material, object, None)), label);
+    let face = Polygon {
+        vertices: vs,
+        material,
+        object,
+        uv: None,
+    };
+    b.add_faces(std::iter::once((face, None)), label);
+}
+
+/// Drops corners that repeat the one before (and a last corner repeating the first), with
+/// their texture coordinates.
+fn drop_repeated_corners(face: &mut Polygon) {
+    let vs = &face.vertices;
+    let mut keep: Vec<usize> = Vec::with_capacity(vs.len());
+    for k in 0..vs.len() {
+        if !keep.last().is_some_and(|&last| vs[last] == vs[k]) {
+            keep.push(k);
+        }
+    }
+    if keep.len() > 1 && vs[keep[0]] == vs[keep[keep.len() - 1]] {
+        keep.pop();
+    }
+    if keep.len() < vs.len() {
+        face.vertices = keep.iter().map(|&k| vs[k]).collect();
+        if let Some(uv) = &mut face.uv {
+            *uv = keep.iter().filter_map(|&k| uv.get(k).copied()).collect();
+        }
+    }
 }
 
 /// A file a scene names (`path`, relative to the scene file's folder).
@@ -511,8 +539,13 @@ impl Builder {
         label: &str,
     ) {
         mesh.transform(t);
-        let faces = (0..mesh.faces.len()).map(|f| mesh.face_positions(f));
-        self.add_faces(faces.map(|f| (f, material, object, None)), label);
+        let faces = (0..mesh.faces.len()).map(|f| Polygon {
+            vertices: mesh.face_positions(f),
+            material,
+            object,
+            uv: None,
+        });
+        self.add_faces(faces.map(|f| (f, None)), label);
     }
 
     /// Faces of an OBJ file, transformed and checked; `assign` gives each face its material
@@ -525,57 +558,57 @@ impl Builder {
         label: &str,
     ) {
         let faces = obj.faces.iter().map(|f| {
-            let mut vs: Vec<Vec3> = f.positions(obj).into_iter().map(|p| t.point(p)).collect();
-            if t.mirrors() {
-                vs.reverse();
-            }
             let (material, object) = assign(f);
-            (vs, material, object, Some(f.line))
+            let mut face = Polygon {
+                vertices: f.positions(obj).into_iter().map(|p| t.point(p)).collect(),
+                material,
+                object,
+                uv: f.texcoords(obj),
+            };
+            if t.mirrors() {
+                face.vertices.reverse();
+                if let Some(uv) = &mut face.uv {
+                    uv.reverse();
+                }
+            }
+            (face, Some(f.line))
         });
         self.add_faces(faces, label);
     }
 
     /// Adds faces (with the file line they come from, if any), skipping degenerate ones,
     /// fanning strongly non-planar ones and dropping coincident duplicates (see
-    /// [`super::coincident`]), with a warning for each kind.
-    fn add_faces(
-        &mut self,
-        faces: impl Iterator<Item = (Vec<Vec3>, usize, usize, Option<usize>)>,
-        label: &str,
-    ) {
+    /// [`super::coincident`]), with a warning for each kind. Texture coordinates follow their
+    /// corners.
+    fn add_faces(&mut self, faces: impl Iterator<Item = (Polygon, Option<usize>)>, label: &str) {
         let (mut skipped, mut split) = (0usize, 0usize);
         let mut dropped = Dropped::default();
-        for (mut vs, material, object, line) in faces {
-            vs.dedup();
-            if vs.len() > 1 && vs.first() == vs.last() {
-                vs.pop();
-            }
-            let two_sided = self.scene.materials[material].two_sided;
-            if vs.len() >= 3 && !self.seen.first_time(&vs, two_sided) {
+        for (mut face, line) in faces {
+            drop_repeated_corners(&mut face);
+            let vs = &face.vertices;
+            let two_sided = self.scene.materials[face.material].two_sided;
+            if vs.len() >= 3 && !self.seen.first_time(vs, two_sided) {
                 dropped.add(line);
                 continue;
             }
-            let pieces = match polygon_problem(&vs) {
-                None => vec![vs],
+            match polygon_problem(vs) {
+                None => self.scene.polygons.push(face),
                 Some(PolygonProblem::NonPlanar(_)) => {
                     split += 1;
-                    (1..vs.len() - 1)
-                        .map(|i| vec![vs[0], vs[i], vs[i + 1]])
-                        .filter(|tri| polygon_problem(tri).is_none())
-                        .collect()
+                    let corners = |i: usize, j: usize| Polygon {
+                        vertices: vec![vs[0], vs[i], vs[j]],
+                        uv: face.uv.as_ref().map(|uv| vec![uv[0], uv[i], uv[j]]),
+                        material: face.material,
+                        object: face.object,
+                    };
+                    let fan: Vec<Polygon> = (1..vs.len() - 1)
+                        .map(|i| corners(i, i + 1))
+                        .filter(|tri| polygon_problem(&tri.vertices).is_none())
+                        .collect();
+                    self.scene.polygons.extend(fan);
                 }
-                Some(_) => {
-                    skipped += 1;
-                    Vec::new()
-                }
-            };
-            self.scene
-                .polygons
-                .extend(pieces.into_iter().map(|vertices| Polygon {
-                    vertices,
-                    material,
-                    object,
-                }));
+                Some(_) => skipped += 1,
+            }
         }
         if skipped > 0 {
             self.scene

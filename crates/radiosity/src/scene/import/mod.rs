@@ -5,4 +5,3 @@ pub mod gltf_file;
 pub mod mitsuba;
 pub mod obj;
 pub mod ply;
-pub mod texture;

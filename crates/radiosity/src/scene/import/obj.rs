@@ -1,20 +1,32 @@
 //! Wavefront OBJ and MTL, read with line and column numbers for every error.
 //!
 //! OBJ statements read: `v x y z` (extra values such as `w` or vertex colours are ignored),
-//! `f` with three or more corners in any of the forms `v`, `v/vt`, `v//vn`, `v/vt/vn`, where an
-//! index is 1-based or, when negative, relative to the end of the vertices read so far;
-//! `o`/`g` (the name of the object the following faces belong to), `usemtl`, `mtllib`.
-//! `#` starts a comment anywhere on a line and a trailing `\` continues a line. Everything else
-//! (`vt`, `vn`, `s`, `l`, ...) is skipped.
+//! `vt u v` (texture coordinates; v is flipped to the image-down convention of
+//! [`crate::scene::texture`]), `f` with three or more corners in any of the forms `v`, `v/vt`,
+//! `v//vn`, `v/vt/vn`, where an index is 1-based or, when negative, relative to the end of the
+//! vertices (or texture coordinates) read so far; `o`/`g` (the name of the object the following
+//! faces belong to), `usemtl`, `mtllib`. A face has texture coordinates when every corner
+//! names one that exists. `#` starts a comment anywhere on a line and a trailing `\` continues a line.
+//! Everything else (`vn`, `s`, `l`, ...) is skipped.
 //!
-//! MTL statements read: `newmtl`, `Kd` → diffuse reflectance ρ, `Ke` → emitted radiance L_e.
-//! Other keys are ignored. A missing MTL file or an unknown `usemtl` name falls back to a default
-//! material (ρ = 0.5) with a warning; faces before any `usemtl` use it silently.
+//! MTL statements read: `newmtl`, `Kd` → diffuse reflectance ρ, `Ke` → emitted radiance L_e,
+//! `map_Kd` → a diffuse texture (PNG or JPEG, relative to the MTL file; `-clamp on` clamps
+//! instead of repeating, other options are ignored with a warning). The texture **replaces**
+//! `Kd`, as Blender's importer does and as exporters that write a default `Kd 0.8` beside a
+//! texture expect: ρ is the texture's mean over each face ([`crate::scene::texture`]), and the
+//! material's ρ where a face has no `vt` is the image's mean, both clamped to
+//! [`crate::scene::MAX_REFLECTANCE`]. A texture that cannot be read leaves `Kd` in force, with a warning
+//! naming the file. Other keys are ignored. A missing MTL file or an unknown `usemtl` name
+//! falls back to a default material (ρ = 0.5) with a warning; faces before any `usemtl` use it
+//! silently.
 
-use std::path::Path;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
+use crate::scene::texture::{Texture, TextureMap, Wrap};
 use crate::scene::{Loc, Material, SceneError};
 use crate::Rgb;
 
@@ -23,6 +35,8 @@ use crate::Rgb;
 pub struct ObjFile {
     /// Vertex positions.
     pub positions: Vec<Vec3>,
+    /// Texture coordinates (image-down convention, [`crate::scene::texture`]).
+    pub texcoords: Vec<Vec2>,
     /// Faces in file order.
     pub faces: Vec<ObjFace>,
     /// Object/group names; faces refer to them by index. Faces before any `o`/`g` belong to
@@ -39,6 +53,8 @@ pub struct ObjFile {
 pub struct ObjFace {
     /// Zero-based indices into [`ObjFile::positions`].
     pub indices: Vec<u32>,
+    /// Zero-based indices into [`ObjFile::texcoords`], one per corner, if the face has them.
+    pub uv: Option<Vec<u32>>,
     /// Index into [`ObjFile::groups`].
     pub group: usize,
     /// Index into [`ObjFile::materials`].
@@ -55,6 +71,13 @@ impl ObjFace {
             .iter()
             .map(|&i| obj.positions[i as usize])
             .collect()
+    }
+
+    /// The face's texture coordinates, if it has them.
+    #[must_use]
+    pub fn texcoords(&self, obj: &ObjFile) -> Option<Vec<Vec2>> {
+        let uv = self.uv.as_ref()?;
+        Some(uv.iter().map(|&i| obj.texcoords[i as usize]).collect())
     }
 }
 
@@ -100,13 +123,25 @@ pub fn parse_obj(text: &str, file: &Path) -> Result<ObjFile, SceneError> {
                 }
                 obj.positions.push(Vec3::from_array(p));
             }
+            "vt" => {
+                let Some(u) = rest.first() else {
+                    return Err(line.error(first, "a texture coordinate needs u"));
+                };
+                let v = rest.get(1).map_or(Ok(0.0), |t| line.number(t))?;
+                obj.texcoords
+                    .push(Vec2::new(line.number(u)? as f32, (1.0 - v) as f32));
+            }
             "f" => {
                 let mut indices = Vec::with_capacity(rest.len());
+                let mut uv = Vec::with_capacity(rest.len());
                 for t in rest {
-                    indices.push(line.index(t, obj.positions.len())?);
+                    let (v, vt) = line.corner(t, obj.positions.len(), obj.texcoords.len())?;
+                    indices.push(v);
+                    uv.extend(vt);
                 }
                 let material = *material.get_or_insert_with(|| intern(&mut used, ""));
                 obj.faces.push(ObjFace {
+                    uv: (uv.len() == indices.len()).then_some(uv),
                     indices,
                     group,
                     material,
@@ -131,7 +166,7 @@ pub fn parse_obj(text: &str, file: &Path) -> Result<ObjFile, SceneError> {
                 for t in rest {
                     let path = file.parent().unwrap_or(Path::new("")).join(t.text);
                     match std::fs::read_to_string(&path) {
-                        Ok(mtl) => library.extend(parse_mtl(&mtl, &path)?),
+                        Ok(mtl) => library.extend(parse_mtl(&mtl, &path, &mut obj.warnings)?),
                         Err(e) => obj.warnings.push(format!(
                             "{}: cannot read material library `{}`: {e}; default material used",
                             line.loc(t),
@@ -179,13 +214,20 @@ pub fn parse_obj(text: &str, file: &Path) -> Result<ObjFile, SceneError> {
     Ok(obj)
 }
 
-/// Parses MTL text into materials; `file` names it in messages.
+/// Parses MTL text into materials; `file` names it in messages and locates its textures.
+/// Textures that cannot be read are reported in `warnings` (the material keeps its `Kd`).
 ///
 /// # Errors
 /// A number does not parse or is out of range (Kd outside [0, 1), Ke negative), with
 /// `file:line:col`.
-pub fn parse_mtl(text: &str, file: &Path) -> Result<Vec<Material>, SceneError> {
+pub fn parse_mtl(
+    text: &str,
+    file: &Path,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<Material>, SceneError> {
     let mut materials: Vec<Material> = Vec::new();
+    // `map_Kd` per material (the last one wins), read once `Kd` can no longer change.
+    let mut maps: Vec<(usize, MapKd)> = Vec::new();
     for line in Lines::new(text, file) {
         let Some(first) = line.tokens.first() else {
             continue;
@@ -215,10 +257,104 @@ pub fn parse_mtl(text: &str, file: &Path) -> Result<Vec<Material>, SceneError> {
                     m.emission = c;
                 }
             }
+            "map_Kd" => {
+                if materials.is_empty() {
+                    return Err(line.error(first, "material value before any `newmtl`"));
+                }
+                let map = MapKd::parse(&line, rest, file, warnings)?;
+                maps.retain(|(m, _)| *m != materials.len() - 1);
+                maps.push((materials.len() - 1, map));
+            }
             _ => {}
         }
     }
+    let mut images: HashMap<PathBuf, Option<Arc<Texture>>> = HashMap::new();
+    for (m, map) in maps {
+        let image = images.entry(map.path.clone()).or_insert_with(|| {
+            match Texture::open(&map.path, false) {
+                Ok(t) => Some(Arc::new(t)),
+                Err(e) => {
+                    warnings.push(format!(
+                        "{}: map_Kd `{}`: {e}; Kd used",
+                        map.loc,
+                        map.path.display()
+                    ));
+                    None
+                }
+            }
+        });
+        if let Some(texture) = image {
+            let texture = TextureMap {
+                texture: Arc::clone(texture),
+                wrap: [map.wrap; 2],
+                factor: Rgb::ONE,
+            };
+            materials[m].reflectance = texture.mean();
+            materials[m].texture = Some(texture);
+        }
+    }
     Ok(materials)
+}
+
+/// A `map_Kd` statement: `map_Kd [-option value…] file`.
+struct MapKd {
+    /// The image, relative to the MTL file's folder.
+    path: PathBuf,
+    wrap: Wrap,
+    /// Where the statement is, for messages.
+    loc: Loc,
+}
+
+impl MapKd {
+    /// Reads the options and the file name; options other than `-clamp` are reported in
+    /// `warnings`.
+    fn parse(
+        line: &Line<'_>,
+        rest: &[Token<'_>],
+        file: &Path,
+        warnings: &mut Vec<String>,
+    ) -> Result<Self, SceneError> {
+        let mut wrap = Wrap::Repeat;
+        let mut k = 0;
+        while let Some(option) = rest.get(k).filter(|t| t.text.starts_with('-')) {
+            // Each option's values: one word, two numbers (`-mm`), or one to three (`-o`, `-s`, `-t`).
+            let values = match option.text {
+                "-mm" => 2,
+                "-o" | "-s" | "-t" => {
+                    let numbers = rest[k + 1..]
+                        .iter()
+                        .take(3)
+                        .take_while(|t| t.text.parse::<f64>().is_ok())
+                        .count();
+                    numbers.max(1)
+                }
+                _ => 1,
+            };
+            if option.text == "-clamp" {
+                if rest.get(k + 1).is_some_and(|t| t.text == "on") {
+                    wrap = Wrap::ClampToEdge;
+                }
+            } else {
+                warnings.push(format!(
+                    "{}: map_Kd option `{}` is ignored",
+                    line.loc(option),
+                    option.text
+                ));
+            }
+            k += 1 + values;
+        }
+        let name: Vec<&str> = rest.iter().skip(k).map(|t| t.text).collect();
+        if name.is_empty() {
+            return Err(line.error(&line.tokens[0], "expected a file name"));
+        }
+        // Files written on Windows separate folders with `\`.
+        let name = name.join(" ").replace('\\', "/");
+        Ok(Self {
+            path: file.parent().unwrap_or(Path::new("")).join(name),
+            wrap,
+            loc: line.loc(&line.tokens[0]),
+        })
+    }
 }
 
 /// Index of `name` in `names`, added if new.
@@ -284,21 +420,40 @@ impl Line<'_> {
         }
     }
 
-    /// A face corner `v[/vt][/vn]` as a zero-based vertex index.
-    fn index(&self, t: &Token<'_>, count: usize) -> Result<u32, SceneError> {
-        let first = t.text.split('/').next().unwrap_or("");
+    /// A face corner `v[/vt][/vn]` as a zero-based vertex index and, when `vt` names one of
+    /// the `texcoords` read so far, a zero-based texture coordinate index.
+    fn corner(
+        &self,
+        t: &Token<'_>,
+        positions: usize,
+        texcoords: usize,
+    ) -> Result<(u32, Option<u32>), SceneError> {
+        let mut parts = t.text.split('/');
+        let first = parts.next().unwrap_or("");
         let Ok(i) = first.parse::<i64>() else {
             return Err(self.error(t, &format!("`{}` is not a vertex index", t.text)));
         };
-        let resolved = if i > 0 { i - 1 } else { count as i64 + i };
-        if i == 0 || resolved < 0 || resolved >= count as i64 {
+        let Some(v) = resolve(i, positions) else {
             return Err(self.error(
                 t,
-                &format!("vertex index {i} is out of range ({count} vertices so far)"),
+                &format!("vertex index {i} is out of range ({positions} vertices so far)"),
             ));
-        }
-        u32::try_from(resolved).map_err(|_| self.error(t, "vertex index too large"))
+        };
+        let vt = parts
+            .next()
+            .and_then(|p| p.parse::<i64>().ok())
+            .and_then(|i| resolve(i, texcoords));
+        Ok((v, vt))
     }
+}
+
+/// A 1-based (or negative, relative) OBJ index into `count` items, zero-based.
+fn resolve(i: i64, count: usize) -> Option<u32> {
+    let resolved = if i > 0 { i - 1 } else { count as i64 + i };
+    if i == 0 || resolved < 0 || resolved >= count as i64 {
+        return None;
+    }
+    u32::try_from(resolved).ok()
 }
 
 /// Logical lines of an OBJ/MTL text.
@@ -406,7 +561,12 @@ mod tests {
         );
         let e = parse_obj("v 0 x 0\n", Path::new("t.obj")).unwrap_err();
         assert_eq!(e.to_string(), "t.obj:1:5: `v`: `x` is not a finite number");
-        let e = parse_mtl("newmtl a\n  Kd 0.5 1.0 0.5\n", Path::new("t.mtl")).unwrap_err();
+        let e = parse_mtl(
+            "newmtl a\n  Kd 0.5 1.0 0.5\n",
+            Path::new("t.mtl"),
+            &mut Vec::new(),
+        )
+        .unwrap_err();
         assert!(
             e.to_string().starts_with("t.mtl:2:6: `Kd`: reflectance"),
             "{e}"
@@ -418,6 +578,7 @@ mod tests {
         let m = parse_mtl(
             "newmtl light\nKd 0.78 0.78 0.78\nKe 17 12 4\nNs 10\nnewmtl grey\nKd 0.2\n",
             Path::new("t.mtl"),
+            &mut Vec::new(),
         )
         .unwrap();
         assert_eq!(m.len(), 2);

@@ -169,6 +169,7 @@ pub fn parse_ply(bytes: &[u8], file: &Path) -> Result<ObjFile, SceneError> {
             } else if let Some(indices) = face {
                 obj.faces.push(ObjFace {
                     indices,
+                    uv: None,
                     group: 0,
                     material: 0,
                     line: 0,

@@ -473,6 +473,7 @@ mod tests {
                     ],
                     material: 0,
                     object: 0,
+                    uv: None,
                 });
             }
         }

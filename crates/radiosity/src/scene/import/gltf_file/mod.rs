@@ -10,7 +10,8 @@
 //! - materials: reflectance ρ = `baseColorFactor` (RGB; clamped to [`MAX_REFLECTANCE`] with a
 //!   warning, since ρ ≥ 1 would create energy); emitted radiance
 //!   L_e = `emissiveFactor` × `KHR_materials_emissive_strength`; `doubleSided` → two-sided.
-//!   Textures are ignored (with a warning): a radiosity patch has one reflectance;
+//!   A `baseColorTexture` multiplies the factor, over `TEXCOORD_0` (`textures.rs`); emissive
+//!   textures are ignored (with a warning);
 //! - `COLOR_0` per vertex, kept for round trips (white where absent, as the specification says);
 //! - perspective cameras: the eye at M·(0,0,0), looking down M's −z with M's +y up, `yfov` as the
 //!   vertical field of view. Orthographic cameras are skipped with a warning;
@@ -46,7 +47,7 @@
 
 use std::path::Path;
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 use gltf::mesh::Mode;
 
 use super::obj::{ObjFace, ObjFile};
@@ -56,12 +57,12 @@ use crate::Rgb;
 
 mod buffers;
 mod error;
+mod textures;
 
 use buffers::load_buffers;
 use error::gltf_error;
 
-/// The largest reflectance an imported material keeps (glTF's default base colour is 1).
-pub const MAX_REFLECTANCE: f64 = 0.99;
+use crate::scene::MAX_REFLECTANCE;
 
 /// An imported glTF file.
 #[derive(Clone, Debug, Default)]
@@ -139,20 +140,20 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
 
     // Materials: the glTF ones in order, then the default material (for primitives without one).
     let mut clamped = Vec::new();
+    let mut images = textures::Images::default();
     for m in doc.materials() {
         let name = m.name().map_or_else(
             || format!("material{}", out.mesh.materials.len()),
             str::to_string,
         );
-        if m.pbr_metallic_roughness().base_color_texture().is_some()
-            || m.emissive_texture().is_some()
-        {
+        if m.emissive_texture().is_some() {
             out.mesh.warnings.push(format!(
-                "{}: material `{name}`: textures are ignored; its factors are used",
+                "{}: material `{name}`: the emissive texture is ignored; its factor is used",
                 file.display()
             ));
         }
-        let material = material(&m, &name, &mut clamped);
+        let mut material = material(&m, &name, &mut clamped);
+        images.apply(&m, &mut material, &buffers, file, &mut out.mesh.warnings);
         out.mesh.materials.push(material);
     }
     let default_material = out.mesh.materials.len();
@@ -265,6 +266,17 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
                     .positions
                     .extend(positions.map(|p| world.transform_point3(Vec3::from_array(p))));
                 let count = out.mesh.positions.len() - base as usize;
+                let uv_base = out.mesh.texcoords.len() as u32;
+                let has_uv = match reader.read_tex_coords(0) {
+                    Some(uv) => {
+                        let uv = uv.into_f32().map(Vec2::from_array);
+                        out.mesh
+                            .texcoords
+                            .extend(uv.chain(std::iter::repeat(Vec2::ZERO)).take(count));
+                        true
+                    }
+                    None => false,
+                };
                 match reader.read_colors(0) {
                     Some(c) => out.colours.extend(
                         c.into_rgb_f32()
@@ -292,8 +304,7 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
                     skipped_modes += 1;
                     continue;
                 };
-                for t in triangles {
-                    let mut t = t.map(|i| base + i);
+                for mut t in triangles {
                     if mirrors {
                         t.swap(1, 2);
                     }
@@ -301,7 +312,8 @@ pub fn parse_gltf(bytes: &[u8], file: &Path) -> Result<GltfFile, SceneError> {
                         continue;
                     }
                     out.mesh.faces.push(ObjFace {
-                        indices: t.to_vec(),
+                        indices: t.map(|i| base + i).to_vec(),
+                        uv: has_uv.then(|| t.map(|i| uv_base + i).to_vec()),
                         group,
                         material,
                         line: 0,
@@ -417,7 +429,7 @@ fn triangles(mode: Mode, indices: &[u32]) -> Option<Vec<[u32; 3]>> {
 
 /// The attribute of `primitive` whose accessor has a type that glTF 2.0 (§3.7.2.1) forbids for
 /// it, if any: POSITION must be float VEC3, indices unsigned-integer SCALAR, COLOR_0 VEC3 or
-/// VEC4 of float or normalised unsigned bytes or shorts.
+/// VEC4 and TEXCOORD_0 VEC2 of float or normalised unsigned bytes or shorts.
 fn bad_accessor_type(primitive: &gltf::Primitive) -> Option<&'static str> {
     use gltf::accessor::{DataType as D, Dimensions as T};
     let bad = |a: Option<gltf::Accessor>, ok: &dyn Fn(D, T) -> bool| {
@@ -435,6 +447,10 @@ fn bad_accessor_type(primitive: &gltf::Primitive) -> Option<&'static str> {
         matches!((d, t), (D::U8 | D::U16 | D::F32, T::Vec3 | T::Vec4))
     }) {
         Some("COLOR_0")
+    } else if bad(primitive.get(&gltf::Semantic::TexCoords(0)), &|d, t| {
+        matches!((d, t), (D::U8 | D::U16 | D::F32, T::Vec2))
+    }) {
+        Some("TEXCOORD_0")
     } else {
         None
     }

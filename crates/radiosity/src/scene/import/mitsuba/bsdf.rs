@@ -19,7 +19,7 @@
 //! | any other Mitsuba BSDF | 0.5 |
 //!
 //! A colour may be a texture: a `bitmap` stands for its mean in linear RGB
-//! ([`crate::scene::import::texture`]), a `checkerboard` for the mean of its two colours, a
+//! ([`crate::scene::texture`]), a `checkerboard` for the mean of its two colours, a
 //! Mitsuba 0.6 `scale` texture for its nested texture's mean times `scale`. Every ρ is clamped to
 //! [0, [`MAX_REFLECTANCE`]]: ρ = 1 would make a closed scene's light grow without bound.
 
@@ -28,12 +28,9 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::xml::{resolve, Class, Object, Property, Value};
-use crate::scene::import::texture;
-use crate::scene::SceneError;
+use crate::scene::texture::Texture;
+use crate::scene::{SceneError, MAX_REFLECTANCE};
 use crate::Rgb;
-
-/// The largest reflectance an imported surface keeps.
-pub const MAX_REFLECTANCE: f64 = 0.99;
 
 /// What a radiosity solve sees of a BSDF.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -172,8 +169,9 @@ impl Mapper {
                 if let Some(c) = self.textures.get(&key) {
                     return Ok(*c);
                 }
-                let mean = texture::mean_rgb(&path, raw)
-                    .map_err(|e| t.error(format!("texture `{}`: {e}", path.display())))?;
+                let mean = Texture::open(&path, raw)
+                    .map_err(|e| t.error(format!("texture `{}`: {e}", path.display())))?
+                    .mean();
                 self.textures.insert(key, mean);
                 Ok(mean)
             }

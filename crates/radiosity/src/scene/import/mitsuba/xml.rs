@@ -21,6 +21,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3, Vec4};
 
+use crate::color::srgb_to_linear;
 use crate::scene::{Loc, SceneError};
 use crate::Rgb;
 
@@ -732,16 +733,6 @@ fn is_property_tag(tag: &str) -> bool {
 
 fn parse_number(s: &str) -> Option<f64> {
     s.trim().parse::<f64>().ok().filter(|x| x.is_finite())
-}
-
-/// The sRGB transfer function's inverse (IEC 61966-2-1).
-#[must_use]
-pub fn srgb_to_linear(c: f64) -> f64 {
-    if c <= 0.040_45 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
 }
 
 /// `toWorld` → `to_world`, `intIOR` → `int_ior`; snake_case names are kept.

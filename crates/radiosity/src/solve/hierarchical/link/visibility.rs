@@ -207,6 +207,7 @@ mod tests {
                 vertices: vec![a, Vec3::new(a.x, b.y, 1.5), b, Vec3::new(b.x, a.y, 1.5)],
                 material: 1,
                 object: 1,
+                uv: None,
             });
         }
         let mesh = Mesh::build(&scene, Subdivision::Elements(64));
