@@ -220,3 +220,61 @@ fn charts_keep_to_their_own_texels() {
         );
     }
 }
+
+#[test]
+fn a_textured_floor_keeps_its_pattern_in_the_baked_picture() {
+    // A 2 × 2 m floor under the default sky, textured by a 2 × 2 black-and-white checker
+    // (`map_Kd`, one square per metre): the solve reflects the texture's mean, 0.495, while
+    // the baked picture shows each texel's own albedo: 0.99 · H / π on the white squares, 0 on
+    // the black ones, the mean between.
+    let dir = std::env::temp_dir().join(format!("radiosity-bake-texture-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let img = image::RgbImage::from_fn(2, 2, |x, y| {
+        image::Rgb([if (x + y) % 2 == 0 { 255 } else { 0 }; 3])
+    });
+    img.save(dir.join("checker.png")).unwrap();
+    std::fs::write(
+        dir.join("floor.mtl"),
+        "newmtl checker\nKd 0.8 0.8 0.8\nmap_Kd checker.png\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("floor.obj"),
+        "mtllib floor.mtl\no floor\nv -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\n\
+         vt 0 0\nvt 0 1\nvt 1 1\nvt 1 0\nusemtl checker\nf 1/1 2/2 3/3 4/4\n",
+    )
+    .unwrap();
+    let mut scene = Scene::load(&dir.join("floor.obj")).expect("obj");
+    assert!(scene.add_default_sky());
+    let solved = pipeline::solve(scene, &pipeline::Settings::default(), &Silent).expect("solve");
+    let baked = bake_at(&solved, 16.0);
+    let texels = texels::texels(&solved.scene, &baked.charts, &baked.atlas);
+    let (mut white, mut black, mut all) = (Vec::new(), Vec::new(), Vec::new());
+    for t in texels.iter().filter(|t| t.inside) {
+        let i = t.index as usize;
+        let ratio =
+            baked.radiance.pixels[i].x / (baked.irradiance.pixels[i].x / std::f64::consts::PI);
+        all.push(ratio);
+        // Well inside a square (a texel away from the checker's lines at x, z = 0).
+        if t.point.x.abs() > 0.1 && t.point.z.abs() > 0.1 {
+            if (t.point.x > 0.0) == (t.point.z > 0.0) {
+                black.push(ratio);
+            } else {
+                white.push(ratio);
+            }
+        }
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    assert!(
+        white.iter().all(|r| (r - 0.99).abs() < 1e-6),
+        "white {}",
+        mean(&white)
+    );
+    assert!(
+        black.iter().all(|r| r.abs() < 1e-6),
+        "black {}",
+        mean(&black)
+    );
+    assert!((mean(&all) - 0.495).abs() < 0.01, "mean {}", mean(&all));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -24,7 +24,11 @@
 //!                                      its own albedo (W·m⁻², or lx for photometric lights)
 //! ```
 //!
-//! (H is 0 where a channel's ρ is 0: such a surface shows none of it.) A texel whose point lies
+//! (H is 0 where a channel's ρ is 0: such a surface shows none of it.) A textured surface (a
+//! glTF `baseColorTexture`, an MTL `map_Kd`) is solved with its texture's mean over each
+//! polygon; its radiance texels show E + ρ(texel) H, the texture's own albedo averaged over the
+//! texel's footprint in the model's texture coordinates, so a checker floor keeps its pattern
+//! and still bleeds its mean colour. A texel whose point lies
 //! inside another object (a floor under a box) reads the solution there, which is dark: its
 //! shadow rays are blocked all round.
 
@@ -236,15 +240,25 @@ pub fn bake(
         } else {
             material.emission * std::f64::consts::PI
         };
-        let rho = material.reflectance;
+        let rho = material.reflectance_of(polygon);
         let mut h = Rgb::ZERO;
         for c in 0..3 {
             if rho[c] > 0.0 {
                 h[c] = ((b[c] - emitted[c]) / rho[c]).max(0.0);
             }
         }
+        // A textured surface shows its texture's own albedo over the texel, not the
+        // polygon's mean the solve used.
+        let shown = match (&material.texture, t.footprint) {
+            (Some(map), Some(uv)) => {
+                let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+                    .map(|(x, y)| Vec3::new(x, y, 0.0));
+                emitted + map.mean_over(&square, &uv) * h
+            }
+            _ => b,
+        };
         let i = t.index as usize;
-        radiance.pixels[i] = b / std::f64::consts::PI;
+        radiance.pixels[i] = shown / std::f64::consts::PI;
         irradiance.pixels[i] = h;
         covered[i] = true;
     }

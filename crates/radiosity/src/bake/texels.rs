@@ -20,7 +20,7 @@
 //! leaves the chart (a chart thinner than the gutter), the gutter texel takes L(q). Texels
 //! farther out stay empty.
 
-use glam::{DVec2, DVec3, Vec3};
+use glam::{DVec2, DVec3, Vec2, Vec3};
 
 use super::chart::{Chart, Face};
 use super::pack::Atlas;
@@ -43,12 +43,18 @@ pub struct Texel {
     /// For a gutter texel, the point q' inside the chart its light is extrapolated from
     /// (module docs), with its normal and face.
     pub mirror: Option<(Vec3, Vec3, Face)>,
+    /// The texel's square in the model's own texture coordinates (its polygon's `uv`,
+    /// extended affinely past the polygon's edges), corner by corner, when the polygon has
+    /// them: where a textured albedo is averaged over the texel.
+    pub footprint: Option<[Vec2; 4]>,
 }
 
 /// A triangle of a chart: its corners in the chart's plane and in space.
 struct Flat {
     plane: [DVec2; 3],
     space: [DVec3; 3],
+    /// The model's texture coordinates at the corners, if the polygon has them.
+    uv: Option<[Vec2; 3]>,
     normal: Vec3,
     face: Face,
 }
@@ -67,9 +73,20 @@ pub fn texels(scene: &Scene, charts: &[Chart], atlas: &Atlas) -> Vec<Texel> {
                 let centre = DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
                 let base = atlas.texel(charts, c, chart.min);
                 let q = chart.min + (centre - base) / atlas.density;
-                if let Some(texel) = locate(&flats, q, reach) {
+                if let Some((texel, f)) = locate(&flats, q, reach) {
+                    let half = 0.5 / atlas.density;
+                    let footprint = flats[f].uv.map(|uv| {
+                        [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].map(|(s, t)| {
+                            let w = barycentrics(flats[f].plane, q + DVec2::new(s, t) * half);
+                            (uv[0].as_dvec2() * w[0]
+                                + uv[1].as_dvec2() * w[1]
+                                + uv[2].as_dvec2() * w[2])
+                                .as_vec2()
+                        })
+                    });
                     out.push(Texel {
                         index: y * atlas.size.0 + x,
+                        footprint,
                         ..texel
                     });
                 }
@@ -85,12 +102,25 @@ fn triangles(scene: &Scene, chart: &Chart) -> Vec<Flat> {
     for (face, corners) in chart.faces.iter().zip(&chart.corners) {
         let vertices = face.vertices(scene);
         let normal = Face::normal(face, scene).as_vec3();
+        let uv = scene.polygons[face.polygon as usize]
+            .uv
+            .clone()
+            .map(|mut uv| {
+                if face.back {
+                    uv.reverse();
+                }
+                uv
+            });
         for [a, b, c] in triangulate(&vertices, normal) {
             let pick = |i: u32| (corners[i as usize], vertices[i as usize].as_dvec3());
             let (pa, pb, pc) = (pick(a), pick(b), pick(c));
             flats.push(Flat {
                 plane: [pa.0, pb.0, pc.0],
                 space: [pa.1, pb.1, pc.1],
+                uv: uv
+                    .as_ref()
+                    .filter(|uv| uv.len() == vertices.len())
+                    .map(|uv| [a, b, c].map(|i| uv[i as usize])),
                 normal,
                 face: *face,
             });
@@ -99,21 +129,23 @@ fn triangles(scene: &Scene, chart: &Chart) -> Vec<Flat> {
     flats
 }
 
-/// The texel at chart point `q`: on the triangle holding it, else at the nearest point of the
-/// triangles if within `reach`, with its mirror point inside (module docs); `None` beyond.
-fn locate(flats: &[Flat], q: DVec2, reach: f64) -> Option<Texel> {
-    let mut nearest: Option<(f64, &Flat, [f64; 3])> = None;
-    for f in flats {
+/// The texel at chart point `q` and the triangle it was found on: on the triangle holding it,
+/// else at the nearest point of the triangles if within `reach`, with its mirror point inside
+/// (module docs); `None` beyond.
+fn locate(flats: &[Flat], q: DVec2, reach: f64) -> Option<(Texel, usize)> {
+    let mut nearest: Option<(f64, usize, [f64; 3])> = None;
+    for (i, f) in flats.iter().enumerate() {
         let w = barycentrics(f.plane, q);
         if w.iter().all(|&x| x >= -1e-12) {
-            return Some(at(f, w, true));
+            return Some((at(f, w, true), i));
         }
         let (d, w) = closest(f.plane, q);
         if nearest.is_none_or(|(best, _, _)| d < best) {
-            nearest = Some((d, f, w));
+            nearest = Some((d, i, w));
         }
     }
-    let (d, f, w) = nearest?;
+    let (d, i, w) = nearest?;
+    let f = &flats[i];
     if d > reach {
         return None;
     }
@@ -126,10 +158,13 @@ fn locate(flats: &[Flat], q: DVec2, reach: f64) -> Option<Texel> {
             (t.point, t.normal, t.face)
         })
     });
-    Some(Texel {
-        mirror,
-        ..at(f, w, false)
-    })
+    Some((
+        Texel {
+            mirror,
+            ..at(f, w, false)
+        },
+        i,
+    ))
 }
 
 /// The texel of triangle `f` at barycentrics `w` (its index filled in by the caller). A point
@@ -147,6 +182,7 @@ fn at(f: &Flat, w: [f64; 3], inside: bool) -> Texel {
         face: f.face,
         inside,
         mirror: None,
+        footprint: None,
     }
 }
 
