@@ -34,7 +34,7 @@ pub enum Command {
     /// Solve a scene and bake its light into light-map textures over its surfaces: a .glb that
     /// engines draw as it is (unlit, the light in its base colour) with the irradiance light
     /// map (RGBM in the file, OpenEXR beside it) on its second UV set.
-    Bake(crate::bake::BakeArgs),
+    Bake(BakeArgs),
     /// Render local illumination, radiosity (and ray tracing when the scene has mirrors or
     /// glass) side by side in one labelled image.
     Compare(CompareArgs),
@@ -325,6 +325,30 @@ pub struct SolveArgs {
     /// Scene file (.toml, .obj, .gltf, .glb) or built-in scene name (see `radiosity scenes`).
     pub scene: String,
     /// Options shared with `render`.
+    #[command(flatten)]
+    pub common: CommonArgs,
+}
+
+/// `radiosity bake`.
+#[derive(Debug, Args)]
+pub struct BakeArgs {
+    /// Scene file (.toml, .obj, .gltf, .glb, .xml) or built-in scene name.
+    pub scene: String,
+    /// The baked model (.glb); the light map's OpenEXR goes beside it as
+    /// `<name>.lightmap.exr`. Default: `<scene>.baked.glb`.
+    #[arg(short = 'o', long = "output", value_name = "PATH")]
+    pub output: Option<PathBuf>,
+    /// The light map's side, texels (a square atlas, filled at the largest texel density that
+    /// fits).
+    #[arg(long, value_name = "TEXELS", conflicts_with = "texels_per_unit")]
+    pub lightmap_size: Option<u32>,
+    /// Texels per scene unit instead of a size: the atlas as large as that needs.
+    #[arg(long, value_name = "TEXELS")]
+    pub texels_per_unit: Option<f64>,
+    /// Texels of gutter around each chart (at least 2).
+    #[arg(long, default_value_t = 2)]
+    pub padding: u32,
+    /// Options shared with `solve` and `render`.
     #[command(flatten)]
     pub common: CommonArgs,
 }

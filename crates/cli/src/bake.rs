@@ -6,40 +6,15 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Result};
-use clap::Args;
 use radiosity::bake::{self, Settings, Size};
 use radiosity::io::atomic::Batch;
 use radiosity::io::baked::{lightmap_path, write_baked, write_lightmap};
 use radiosity::io::gltf::Placement;
 use radiosity::render::Watch;
 
-use crate::args::CommonArgs;
+use crate::args::BakeArgs;
 use crate::interrupt::{stop_flag, Interrupted};
 use crate::job::{self, check_output, in_pool, stage, Outputs};
-
-/// `radiosity bake`.
-#[derive(Debug, Args)]
-pub struct BakeArgs {
-    /// Scene file (.toml, .obj, .gltf, .glb, .xml) or built-in scene name.
-    pub scene: String,
-    /// The baked model (.glb); the light map's OpenEXR goes beside it as
-    /// `<name>.lightmap.exr`. Default: `<scene>.baked.glb`.
-    #[arg(short = 'o', long = "output", value_name = "PATH")]
-    pub output: Option<PathBuf>,
-    /// The light map's side, texels (a square atlas, filled at the largest texel density that
-    /// fits).
-    #[arg(long, value_name = "TEXELS", conflicts_with = "texels_per_unit")]
-    pub lightmap_size: Option<u32>,
-    /// Texels per scene unit instead of a size: the atlas as large as that needs.
-    #[arg(long, value_name = "TEXELS")]
-    pub texels_per_unit: Option<f64>,
-    /// Texels of gutter around each chart (at least 2).
-    #[arg(long, default_value_t = 2)]
-    pub padding: u32,
-    /// Options shared with `solve` and `render`.
-    #[command(flatten)]
-    pub common: CommonArgs,
-}
 
 /// Runs `radiosity bake`.
 pub fn run(args: &BakeArgs) -> Result<()> {
