@@ -61,8 +61,8 @@ pub enum Size {
 pub struct Settings {
     /// The atlas's size.
     pub size: Size,
-    /// Texels of gutter around each chart (at least 2: bilinear filtering and the first mip
-    /// level stay within a chart's own texels).
+    /// Texels of gutter around each chart (at least 2: bilinear filtering stays within a
+    /// chart's own texels; the textures are written without mipmaps, `io::baked`).
     pub padding: u32,
     /// Shadow rays per luminaire at each texel's point.
     pub shadow_samples: u32,

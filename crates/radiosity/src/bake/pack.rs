@@ -2,11 +2,12 @@
 //!
 //! Each chart ([`super::chart`]) is scaled by the texel density (texels per scene unit) and
 //! takes the box around it grown by a gutter of `padding` texels on every side, so two charts
-//! are at least 2 × `padding` texels apart and bilinear filtering (and the mip levels a viewer
-//! makes) never mixes one chart's texels into another's. The boxes are placed by *shelves*
-//! (the "next fit decreasing height" strip packing of Coffman et al. 1980, the heuristic many
-//! light-map packers start from): tallest first, left to right along a shelf as wide as the
-//! atlas, a new shelf above the tallest box of the last one when the next box does not fit.
+//! are at least 2 × `padding` texels apart and bilinear filtering never mixes one chart's texels
+//! into another's (mip levels would, which is why the textures have none: [`crate::io::baked`]).
+//! The boxes are placed by *shelves* (the "next fit decreasing height" strip packing of Coffman
+//! et al. 1980, the heuristic many light-map packers start from): tallest first, left to right
+//! along a shelf as wide as the atlas, a new shelf above the tallest box of the last one when
+//! the next box does not fit.
 //!
 //! Given a density, the atlas is made about square: as wide as the square root of the boxes'
 //! total area, or the widest box, in multiples of 4 texels. Given a size instead

@@ -8,7 +8,10 @@
 //!   accessor): the first for the baked base colour, the second where engines look for a
 //!   light map (three.js's `lightMap` reads `uv1`, Bevy's `Lightmap` the second UV set).
 //!
-//! Two textures over that atlas:
+//! Two textures over that atlas, both sampled bilinearly without mipmaps (`minFilter`
+//! `LINEAR`): a mip level averages each chart's edge with the empty atlas or the chart beside
+//! it past the 2-texel gutter, which a viewer that builds mipmaps (three.js) shows as dark
+//! lines along the chart seams of surfaces seen at a slant (`benches/bake/`):
 //!
 //! - the **fully baked** picture: the radiance L = B/π, exposed (automatically, as the picture
 //!   is) and sRGB-encoded, the base colour of the one material, unlit
@@ -42,6 +45,9 @@ use crate::bake::Baked;
 use crate::mesh::triangulate::triangulate;
 use crate::render::{tonemap, Image};
 use crate::{Rgb, Scene};
+
+/// glTF's (OpenGL's) `LINEAR` texture filter: bilinear, no mipmaps.
+const LINEAR: u32 = 9729;
 
 /// How far each layer of a two-sided surface stands off its plane, metres.
 pub const LAYER_GAP: f32 = 1e-4;
@@ -209,7 +215,7 @@ fn encode(scene: &Scene, baked: &Baked, placement: &Placement, exr: &str) -> io:
         "scenes": [{ "nodes": (0..nodes.len()).collect::<Vec<_>>() }],
         "nodes": nodes,
         "extensionsUsed": ["KHR_materials_unlit"],
-        "samplers": [{ "magFilter": 9729, "minFilter": 9987, "wrapS": 33071, "wrapT": 33071 }],
+        "samplers": [{ "magFilter": LINEAR, "minFilter": LINEAR, "wrapS": 33071, "wrapT": 33071 }],
         "images": [
             { "name": "baked", "bufferView": picture_view, "mimeType": "image/png" },
             { "name": "lightmap", "bufferView": lightmap_view, "mimeType": "image/png" }
