@@ -279,9 +279,9 @@ def main():
     p.add_argument("--samples", type=int, default=16, help="Cycles samples per pixel")
     p.add_argument("--node-dir", default=str(Path.home() / ".cache/radiosity-bench/node"))
     p.add_argument("--viewers", default="blender,threejs")
-    p.add_argument("--supersample", type=int, default=4,
+    p.add_argument("--supersample", type=int, default=8,
                    help="also draw three.js at N x N pixels per pixel, averaged in linear "
-                        "light (a diagnostic row; 1: not)")
+                        "light (a diagnostic row; 1: not; at most 4096 pixels a side)")
     p.add_argument("--lit", action="store_true",
                    help="also export the lit mesh (solve --export DIR/lit.glb) and validate it")
     p.add_argument("--reuse", action="store_true",
@@ -345,15 +345,17 @@ def main():
         err, rel = block_error(image, reference, clipped)
         error_map(rel, 4, out / "three-error.png")
         results["threejs"] = {**err, **facts}
-    if args.supersample > 1 and "threejs" in viewers:
+    # A WebGL canvas larger than 4096 pixels a side may be cut down by the browser.
+    ss = min(args.supersample, 4096 // max(w, h))
+    if ss > 1 and "threejs" in viewers:
         # The same page drawn at N × N pixels per pixel without multisampling and averaged
         # in linear light: the textures alone, without the resolve of sRGB-encoded samples.
         png = out / "three-ss.png"
-        facts, image = threejs(glb, png, w, h, modules, out, args.supersample)
+        facts, image = threejs(glb, png, w, h, modules, out, ss)
         Image.fromarray((linear_to_srgb(image) * 255).round().astype(np.uint8)).save(png)
         err, rel = block_error(image, reference, clipped)
         error_map(rel, 4, out / "three-ss-error.png")
-        results[f"threejs-ss{args.supersample}"] = {**err, **facts}
+        results[f"threejs-ss{ss}"] = {**err, **facts}
     summary["viewers"] = results
     summary["times"] = {k: round(v, 2) for k, v in times.items()}
     text = json.dumps(summary, indent=1)
