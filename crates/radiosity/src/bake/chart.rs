@@ -195,7 +195,7 @@ fn adjacency(scene: &Scene, faces: &[Face]) -> Vec<Vec<usize>> {
 }
 
 /// The unit normal of a planar polygon by Newell's method (zero for a degenerate one).
-pub(super) fn newell(v: &[Vec3]) -> DVec3 {
+pub(crate) fn newell(v: &[Vec3]) -> DVec3 {
     let mut n = DVec3::ZERO;
     for k in 0..v.len() {
         let (a, b) = (v[k].as_dvec3(), v[(k + 1) % v.len()].as_dvec3());

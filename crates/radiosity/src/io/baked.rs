@@ -24,6 +24,11 @@
 //!   floating point goes beside the file as OpenEXR (`<name>.lightmap.exr`, [`lightmap_path`],
 //!   [`write_lightmap`]).
 //!
+//! The distant light's enclosure (the default sky, an environment's far cube) is not charted:
+//! it comes as one more mesh, `distant light`, unlit, each polygon coloured by `COLOR_0` with
+//! its emitted radiance exposed as the picture is, so a window shows the sky it shows in our
+//! render.
+//!
 //! A two-sided polygon has a chart for each side; its two layers are the same triangles facing
 //! opposite ways, each moved [`LAYER_GAP`] along its own normal so that a renderer that does not
 //! cull back faces (Cycles) meets the layer that faces it first, and one that does (three.js,
@@ -193,9 +198,58 @@ fn encode(scene: &Scene, baked: &Baked, placement: &Placement, exr: &str) -> io:
         }));
         nodes.push(json!({ "name": name, "mesh": meshes.len() - 1 }));
     }
+    let exposure = exposure(baked);
+    let mut materials = vec![json!({
+        "name": "baked",
+        "pbrMetallicRoughness": {
+            "baseColorTexture": { "index": 0, "texCoord": 0 },
+            "metallicFactor": 0.0,
+            "roughnessFactor": 1.0
+        },
+        "extensions": { "KHR_materials_unlit": {} },
+        "extras": { "lightmap": {
+            "texture": 1, "texCoord": 1, "encoding": "RGBM",
+            "quantity": "irradiance, W/m² (lx for photometric lights)",
+            "exr": exr,
+            "exposure": exposure
+        } }
+    })];
+    // The distant light's enclosure: its own mesh, each polygon its exposed radiance.
+    let sky = distant(scene, exposure, metres);
+    if !sky.0.is_empty() {
+        let count = sky.0.len();
+        let (lo, hi) = sky.0.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        let p = view(&mut bin, &vec3_bytes(&sky.0), Some(ARRAY_BUFFER));
+        accessors.push(
+            json!({ "bufferView": p, "componentType": FLOAT, "count": count,
+            "type": "VEC3", "min": lo.to_array(), "max": hi.to_array() }),
+        );
+        let c = view(&mut bin, &vec3_bytes(&sky.1), Some(ARRAY_BUFFER));
+        accessors.push(
+            json!({ "bufferView": c, "componentType": FLOAT, "count": count,
+            "type": "VEC3" }),
+        );
+        let a = accessors.len();
+        materials.push(json!({
+            "name": "distant light",
+            "pbrMetallicRoughness": { "metallicFactor": 0.0, "roughnessFactor": 1.0 },
+            "extensions": { "KHR_materials_unlit": {} }
+        }));
+        meshes.push(json!({
+            "name": "distant light",
+            "primitives": [{
+                "attributes": { "POSITION": a - 2, "COLOR_0": a - 1 },
+                "material": 1,
+                "mode": 4
+            }]
+        }));
+        nodes.push(json!({ "name": "distant light", "mesh": meshes.len() - 1 }));
+    }
     let cameras = cameras(placement, &mut nodes);
 
-    let exposure = exposure(baked);
     let scale = tonemap::exposure_scale(exposure);
     let picture = png(
         &baked.radiance,
@@ -221,22 +275,9 @@ fn encode(scene: &Scene, baked: &Baked, placement: &Placement, exr: &str) -> io:
             { "name": "lightmap", "bufferView": lightmap_view, "mimeType": "image/png" }
         ],
         "textures": [{ "sampler": 0, "source": 0 }, { "sampler": 0, "source": 1 }],
-        "materials": [{
-            "name": "baked",
-            "pbrMetallicRoughness": {
-                "baseColorTexture": { "index": 0, "texCoord": 0 },
-                "metallicFactor": 0.0,
-                "roughnessFactor": 1.0
-            },
-            "extensions": { "KHR_materials_unlit": {} },
-            "extras": { "lightmap": {
-                "texture": 1, "texCoord": 1, "encoding": "RGBM", "range": range,
-                "quantity": "irradiance, W/m² (lx for photometric lights)",
-                "exr": exr,
-                "exposure": exposure
-            } }
-        }],
     });
+    doc["materials"] = Value::Array(materials);
+    doc["materials"][0]["extras"]["lightmap"]["range"] = json!(range);
     if !cameras.is_empty() {
         doc["cameras"] = Value::Array(cameras);
     }
@@ -247,6 +288,32 @@ fn encode(scene: &Scene, baked: &Baked, placement: &Placement, exr: &str) -> io:
     doc["bufferViews"] = Value::Array(views);
     doc["buffers"] = json!([{ "byteLength": bin.len() }]);
     glb(&doc, bin)
+}
+
+/// The triangles of the distant light's enclosure (the default sky, an environment's far
+/// cube), in metres, and the colour of each corner: the polygon's emitted radiance exposed by
+/// `exposure` stops, clamped to [0, 1] (linear, as glTF colours are).
+fn distant(scene: &Scene, exposure: f32, metres: f32) -> (Vec<Vec3>, Vec<Vec3>) {
+    let scale = tonemap::exposure_scale(exposure);
+    let (mut positions, mut colours) = (Vec::new(), Vec::new());
+    for p in &scene.polygons {
+        let name = &scene.objects[p.object].name;
+        if name != crate::scene::sky::NAME && name != crate::scene::environment::NAME {
+            continue;
+        }
+        let material = &scene.materials[p.material];
+        let colour = (material.emission * scale)
+            .clamp(Rgb::ZERO, Rgb::ONE)
+            .as_vec3();
+        let n = crate::bake::chart::newell(&p.vertices).as_vec3();
+        for t in triangulate(&p.vertices, n) {
+            for i in t {
+                positions.push(p.vertices[i as usize] * metres);
+                colours.push(colour);
+            }
+        }
+    }
+    (positions, colours)
 }
 
 /// The exposure (stops) of the fully baked picture: the automatic one of the covered texels.
