@@ -278,20 +278,11 @@ pub fn bake(
 
 /// How far a polygon strays from the plane of its Newell normal through its first corner.
 fn warp(vertices: &[glam::Vec3]) -> f32 {
-    let face = chart::Face {
-        polygon: 0,
-        back: false,
-    };
-    let n = face_normal(vertices, &face).as_vec3();
+    let n = chart::newell(vertices).as_vec3();
     vertices
         .iter()
         .map(|&v| (v - vertices[0]).dot(n).abs())
         .fold(0.0, f32::max)
-}
-
-/// The Newell normal of `vertices` as `face` would show them.
-fn face_normal(vertices: &[glam::Vec3], face: &chart::Face) -> glam::DVec3 {
-    chart::newell(vertices) * if face.back { -1.0 } else { 1.0 }
 }
 
 /// Fills the `missing` texels (whose points no probe found: a point exactly on an edge the

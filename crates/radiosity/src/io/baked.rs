@@ -49,6 +49,7 @@ use super::image_file::write_image;
 use crate::bake::Baked;
 use crate::mesh::triangulate::triangulate;
 use crate::render::{tonemap, Image};
+use crate::scene::enclosure::box_around;
 use crate::{Rgb, Scene};
 
 /// glTF's (OpenGL's) `LINEAR` texture filter: bilinear, no mipmaps.
@@ -149,10 +150,7 @@ fn encode(scene: &Scene, baked: &Baked, placement: &Placement, exr: &str) -> io:
             continue;
         }
         let positions: Vec<Vec3> = vertices.iter().map(|v| v.position).collect();
-        let (lo, hi) = positions.iter().fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-        );
+        let (lo, hi) = box_around(positions.iter().copied()).unwrap_or_default();
         let normals: Vec<Vec3> = vertices.iter().map(|v| v.normal).collect();
         let uvs: Vec<u8> = vertices
             .iter()
@@ -218,10 +216,7 @@ fn encode(scene: &Scene, baked: &Baked, placement: &Placement, exr: &str) -> io:
     let sky = distant(scene, exposure, metres);
     if !sky.0.is_empty() {
         let count = sky.0.len();
-        let (lo, hi) = sky.0.iter().fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-        );
+        let (lo, hi) = box_around(sky.0.iter().copied()).unwrap_or_default();
         let p = view(&mut bin, &vec3_bytes(&sky.0), Some(ARRAY_BUFFER));
         accessors.push(
             json!({ "bufferView": p, "componentType": FLOAT, "count": count,

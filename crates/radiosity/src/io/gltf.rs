@@ -39,6 +39,7 @@ use super::atomic::write_atomic;
 use crate::mesh::LitMesh;
 use crate::render::tonemap::{auto_exposure, exposure_scale};
 use crate::render::Image;
+use crate::scene::enclosure::box_around;
 use crate::scene::Camera;
 
 /// glTF `componentType` of `f32`.
@@ -216,10 +217,7 @@ fn encode(
                 .into_iter()
                 .map(|p| p * metres)
                 .collect();
-            let (lo, hi) = positions.iter().fold(
-                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-                |(lo, hi), &p| (lo.min(p), hi.max(p)),
-            );
+            let (lo, hi) = box_around(positions.iter().copied()).unwrap_or_default();
             let mut attributes = serde_json::Map::new();
             for (name, data, bounds) in [
                 ("POSITION", positions, Some((lo, hi))),

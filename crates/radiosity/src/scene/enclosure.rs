@@ -22,16 +22,24 @@ use crate::Rgb;
 /// when there is nothing to enclose.
 #[must_use]
 pub fn bounds(scene: &Scene) -> Option<(Vec3, Vec3)> {
-    let (lo, hi) = scene
-        .polygons
-        .iter()
-        .flat_map(|p| p.vertices.iter().copied())
-        .chain(scene.cameras.iter().map(|c| c.eye))
-        .filter(|v| v.is_finite())
-        .fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), v| (lo.min(v), hi.max(v)),
-        );
+    box_around(
+        scene
+            .polygons
+            .iter()
+            .flat_map(|p| p.vertices.iter().copied())
+            .chain(scene.cameras.iter().map(|c| c.eye))
+            .filter(|v| v.is_finite()),
+    )
+}
+
+/// The smallest axis-aligned box (lower and upper corner) around `points`, or `None` for no
+/// points.
+#[must_use]
+pub fn box_around(points: impl IntoIterator<Item = Vec3>) -> Option<(Vec3, Vec3)> {
+    let (lo, hi) = points.into_iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), v| (lo.min(v), hi.max(v)),
+    );
     lo.cmple(hi).all().then_some((lo, hi))
 }
 

@@ -631,17 +631,14 @@ impl Builder {
             .objects
             .iter()
             .position(|o| o.name == super::environment::NAME);
-        let (lo, hi) = self
-            .scene
-            .polygons
-            .iter()
-            .filter(|p| Some(p.object) != far)
-            .flat_map(|p| p.vertices.iter().copied())
-            .fold(
-                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-                |(lo, hi), v| (lo.min(v), hi.max(v)),
-            );
-        if lo.cmple(hi).all() {
+        let bounds = super::enclosure::box_around(
+            self.scene
+                .polygons
+                .iter()
+                .filter(|p| Some(p.object) != far)
+                .flat_map(|p| p.vertices.iter().copied()),
+        );
+        if let Some((lo, hi)) = bounds {
             for l in &mut self.scene.luminaires {
                 l.within(lo, hi);
             }
